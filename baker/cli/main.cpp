@@ -1,0 +1,29 @@
+// clothbake: command-line entry point. Errors from bad input arrive as
+// exceptions and leave here as one line on stderr and exit code 1.
+
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"clothbake: woven cloth from a volume texture (Kimoto & Ohno, c. 1990)"};
+  app.require_subcommand(1);
+  clothbake::cli::register_volume_command(app);
+  clothbake::cli::register_fiber_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const clothbake::InputError& e) {
+    std::fprintf(stderr, "clothbake: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "clothbake: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

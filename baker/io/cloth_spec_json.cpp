@@ -1,0 +1,100 @@
+#include "io/cloth_spec_json.h"
+
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace clothbake::io {
+
+namespace {
+void read_yarn(const JsonObject& j, YarnSpec& y) {
+  j.allow_only({"spacing_mm", "width_mm", "thickness_mm", "color", "twist_deg", "ply_pitch_mm"});
+  j.read("spacing_mm", y.spacing_mm);
+  j.read("width_mm", y.width_mm);
+  j.read("thickness_mm", y.thickness_mm);
+  j.read("color", y.color);
+  j.read("twist_deg", y.twist_deg);
+  j.read("ply_pitch_mm", y.ply_pitch_mm);
+}
+}  // namespace
+
+ClothSpec cloth_spec_from_json(const JsonObject& j) {
+  ClothSpec s;
+  j.allow_only({"name", "description", "weave", "warp", "weft", "crimp", "angle_spread_deg",
+                "density", "shading", "resolution", "seed"});
+  if (j.has("weave")) {
+    const JsonObject w = j.object("weave");
+    w.allow_only({"pattern", "draft"});
+    if (w.has("pattern") && w.has("draft"))
+      w.fail(w.path(), "give either pattern or draft, not both");
+    w.read("pattern", s.pattern);
+    w.read("draft", s.draft);
+    if (w.has("draft") && s.draft.empty()) w.fail(w.field("draft"), "the draft is empty");
+  }
+  if (j.has("warp")) read_yarn(j.object("warp"), s.warp);
+  if (j.has("weft")) read_yarn(j.object("weft"), s.weft);
+  j.read("crimp", s.crimp);
+  j.read("angle_spread_deg", s.angle_spread_deg);
+  if (j.has("density")) {
+    const JsonObject d = j.object("density");
+    d.allow_only({"core", "edge", "falloff", "top_factor", "noise_amplitude", "noise_scale_mm"});
+    d.read("core", s.density.core);
+    d.read("edge", s.density.edge);
+    d.read("falloff", s.density.falloff);
+    d.read("top_factor", s.density.top_factor);
+    d.read("noise_amplitude", s.density.noise_amplitude);
+    d.read("noise_scale_mm", s.density.noise_scale_mm);
+  }
+  if (j.has("shading")) {
+    const JsonObject h = j.object("shading");
+    h.allow_only({"specular_top", "specular_bottom", "diffuse_top", "diffuse_bottom", "exponent",
+                  "variation", "fiber_aspect"});
+    h.read("specular_top", s.shading.specular_top);
+    h.read("specular_bottom", s.shading.specular_bottom);
+    h.read("diffuse_top", s.shading.diffuse_top);
+    h.read("diffuse_bottom", s.shading.diffuse_bottom);
+    h.read("exponent", s.shading.exponent);
+    h.read("variation", s.shading.variation);
+    h.read("fiber_aspect", s.shading.fiber_aspect);
+  }
+  if (j.has("resolution")) {
+    const JsonObject r = j.object("resolution");
+    r.allow_only({"cells_x", "cells_y", "layers", "supersample"});
+    r.read("cells_x", s.resolution.cells_x);
+    r.read("cells_y", s.resolution.cells_y);
+    r.read("layers", s.resolution.layers);
+    r.read("supersample", s.resolution.supersample);
+  }
+  j.read("seed", s.seed);
+  try {
+    validate(s);
+  } catch (const InputError& e) {
+    // The core names fields relative to the spec; prefix where the spec sits.
+    const std::string prefix = j.path().empty() ? "" : j.path() + ".";
+    throw InputError(prefix + e.field(), e.message(), j.file());
+  }
+  return s;
+}
+
+ClothSpec load_cloth_spec(const std::string& path) {
+  const nlohmann::json doc = read_json_file(path);
+  const JsonObject top(doc, "", path);
+  if (!top.has("objects")) return cloth_spec_from_json(top);
+
+  // A scene: the first object's cloth, inline or by file.
+  const auto& objects = top.raw("objects");
+  if (!objects.is_array() || objects.empty())
+    top.fail("objects", "expected a non-empty array of cloth objects");
+  const JsonObject first(objects[0], "objects[0]", path);
+  if (!first.has("cloth")) first.fail("objects[0].cloth", "missing");
+  const auto& cloth = first.raw("cloth");
+  if (cloth.is_string()) {
+    const std::filesystem::path rel = cloth.get<std::string>();
+    const std::filesystem::path full =
+        rel.is_absolute() ? rel : std::filesystem::path(path).parent_path() / rel;
+    return load_cloth_spec(full.string());
+  }
+  return cloth_spec_from_json(JsonObject(cloth, "objects[0].cloth", path));
+}
+
+}  // namespace clothbake::io

@@ -1,0 +1,77 @@
+#include "io/image_io.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace clothbake::io {
+
+namespace {
+namespace oiio = OIIO;
+
+oiio::ImageBuf to_imagebuf(const Image& image) {
+  oiio::ImageSpec spec(image.width, image.height, image.channels, oiio::TypeDesc::FLOAT);
+  oiio::ImageBuf buf(spec);
+  buf.set_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, image.pixels.data());
+  return buf;
+}
+
+void write_buf(const std::string& path, const oiio::ImageBuf& buf, oiio::TypeDesc type) {
+  write_atomically(path, [&](const std::string& temp) {
+    if (!buf.write(temp, type))
+      throw InputError("", "cannot write image: " + buf.geterror(), path);
+  });
+}
+}  // namespace
+
+void write_png(const std::string& path, const Image& image, bool linear) {
+  oiio::ImageBuf buf = to_imagebuf(image);
+  if (linear) buf = oiio::ImageBufAlgo::colorconvert(buf, "linear", "sRGB");
+  buf = oiio::ImageBufAlgo::clamp(buf, 0.0f, 1.0f);
+  write_buf(path, buf, oiio::TypeDesc::UINT8);
+}
+
+void write_exr(const std::string& path, const Image& image) {
+  oiio::ImageBuf buf = to_imagebuf(image);
+  const char* names4[] = {"R", "G", "B", "A"};
+  oiio::ImageSpec& spec = buf.specmod();
+  spec.channelnames.clear();
+  for (int c = 0; c < image.channels; ++c)
+    spec.channelnames.emplace_back(image.channels <= 4 ? names4[c] : "C" + std::to_string(c));
+  spec.attribute("compression", "zip");
+  write_buf(path, buf, oiio::TypeDesc::FLOAT);
+}
+
+Image color_map(const Image& scalar, const char* map_name, float lo, float hi) {
+  Image unit = scalar;
+  const float span = hi > lo ? hi - lo : 1.0f;
+  for (float& v : unit.pixels) v = std::clamp((v - lo) / span, 0.0f, 1.0f);
+  oiio::ImageBuf mapped = oiio::ImageBufAlgo::color_map(to_imagebuf(unit), 0, map_name);
+  Image out(scalar.width, scalar.height, 3);
+  mapped.get_pixels(oiio::ROI(0, scalar.width, 0, scalar.height, 0, 1, 0, 3),
+                    oiio::TypeDesc::FLOAT, out.pixels.data());
+  return out;
+}
+
+void draw_label(Image& image, int x, int y, const std::string& text, int font_size, float r,
+                float g, float b) {
+  static const char* k_fonts[] = {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+                                  "DejaVuSans"};
+  oiio::ImageBuf buf = to_imagebuf(image);
+  const float colour[] = {r, g, b, 1.0f};
+  for (const char* font : k_fonts) {
+    if (!std::filesystem::exists(font) && font[0] == '/') continue;
+    if (oiio::ImageBufAlgo::render_text(buf, x, y, text, font_size, font,
+                                        oiio::cspan<float>(colour, image.channels))) {
+      buf.get_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, image.pixels.data());
+      return;
+    }
+  }
+}
+
+}  // namespace clothbake::io

@@ -1,0 +1,28 @@
+#pragma once
+/// Image files through OpenImageIO. Every write goes to a temporary file in the
+/// destination folder and is renamed into place, so a reader never sees half a
+/// file and a failed write leaves the previous file untouched.
+
+#include <string>
+
+#include "core/image.h"
+
+namespace clothbake::io {
+
+/// Writes an 8-bit PNG. `linear` = true applies the sRGB transfer curve first;
+/// false writes the values as they are (already display-referred, e.g. colour maps).
+void write_png(const std::string& path, const Image& image, bool linear);
+
+/// Writes a float EXR (linear, no transfer curve), channels R,G,B[,A].
+void write_exr(const std::string& path, const Image& image);
+
+/// Maps a single-channel image through a named OpenImageIO colour map
+/// ("inferno", "viridis", "magma", "plasma", "turbo") over [lo, hi] to RGB.
+Image color_map(const Image& scalar, const char* map_name, float lo, float hi);
+
+/// Draws text onto an RGB image in place (DejaVu Sans if installed; silently
+/// skipped if no font is available, since labels are a convenience).
+void draw_label(Image& image, int x, int y, const std::string& text, int font_size,
+                float r = 1.0f, float g = 1.0f, float b = 1.0f);
+
+}  // namespace clothbake::io
