@@ -7,9 +7,9 @@
 #include <fstream>
 #include <memory>
 
+#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -112,7 +112,8 @@ void run_volume(const VolumeArgs& args) {
       {"mean_density", rho_sum / double(volume.cell_count())},
       {"occupied_fraction", double(occupied) / double(volume.cell_count())},
       {"seed", spec.seed},
-      {"cells_hash", [&] {
+      {"cells_hash",
+       [&] {
          char hex[17];
          std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)volume.content_hash());
          return std::string(hex);

@@ -18,29 +18,29 @@ struct YarnSpec {
   float width_mm = 0.44f;      ///< full width of the elliptical cross-section, in the cloth plane
   float thickness_mm = 0.18f;  ///< full height of the cross-section, across the cloth
   Imath::V3f color{0.60f, 0.09f, 0.08f};  ///< diffuse albedo, linear RGB in [0, 1]
-  float twist_deg = 28.0f;     ///< angle of the fibres to the yarn axis (ply twist), [0, 89]
-  float ply_pitch_mm = 1.0f;   ///< yarn length of one full turn of the two twisted bundles
+  float twist_deg = 28.0f;    ///< angle of the fibres to the yarn axis (ply twist), [0, 89]
+  float ply_pitch_mm = 1.0f;  ///< yarn length of one full turn of the two twisted bundles
 };
 
 /// Density rho (fraction of a cell occupied by fibre, PAPER.md s.2 "first element").
 struct DensitySpec {
-  float core = 1.0f;            ///< rho at a yarn's centre line, (0, 1]
-  float edge = 0.45f;           ///< rho at a yarn's boundary, [0, core]
-  float falloff = 1.5f;         ///< exponent p of (1 - r^2)^p from centre to edge, > 0
-  float top_factor = 0.7f;      ///< multiplier of rho at the cloth's top face (1 at its bottom), (0, 1]
-  float noise_amplitude = 0.2f; ///< relative amplitude of the seeded spatial noise, [0, 1]
-  float noise_scale_mm = 0.06f; ///< feature size of that noise, > 0
+  float core = 1.0f;        ///< rho at a yarn's centre line, (0, 1]
+  float edge = 0.45f;       ///< rho at a yarn's boundary, [0, core]
+  float falloff = 1.5f;     ///< exponent p of (1 - r^2)^p from centre to edge, > 0
+  float top_factor = 0.7f;  ///< multiplier of rho at the cloth's top face (1 at its bottom), (0, 1]
+  float noise_amplitude = 0.2f;  ///< relative amplitude of the seeded spatial noise, [0, 1]
+  float noise_scale_mm = 0.06f;  ///< feature size of that noise, > 0
 };
 
 /// Shading coefficients f per cell (PAPER.md s.2 "third element").
 struct ShadingSpec {
-  float specular_top = 0.55f;    ///< specular strength at the top face
-  float specular_bottom = 0.08f; ///< specular strength at the bottom face
-  float diffuse_top = 0.65f;     ///< multiplier of the yarn colour at the top face
-  float diffuse_bottom = 1.0f;   ///< multiplier of the yarn colour at the bottom face
-  float exponent = 24.0f;        ///< Phong exponent, > 0 (one value for the cloth)
-  float variation = 0.15f;       ///< relative seeded random variation of both strengths, [0, 1]
-  float fiber_aspect = 8.0f;     ///< ellipsoid aspect of the fibre model, >= 1
+  float specular_top = 0.55f;     ///< specular strength at the top face
+  float specular_bottom = 0.08f;  ///< specular strength at the bottom face
+  float diffuse_top = 0.65f;      ///< multiplier of the yarn colour at the top face
+  float diffuse_bottom = 1.0f;    ///< multiplier of the yarn colour at the bottom face
+  float exponent = 24.0f;         ///< Phong exponent, > 0 (one value for the cloth)
+  float variation = 0.15f;        ///< relative seeded random variation of both strengths, [0, 1]
+  float fiber_aspect = 8.0f;      ///< ellipsoid aspect of the fibre model, >= 1
 };
 
 /// Grid of cells over ONE weave repeat (the texture tiles periodically in x, y).
@@ -52,16 +52,16 @@ struct ResolutionSpec {
 };
 
 struct ClothSpec {
-  std::string pattern = "plain";       ///< named draft; ignored when `draft` is non-empty
-  std::vector<std::vector<int>> draft; ///< explicit draft (rows = picks, 1 = warp up)
-  YarnSpec warp;                       ///< runs along +y
+  std::string pattern = "plain";        ///< named draft; ignored when `draft` is non-empty
+  std::vector<std::vector<int>> draft;  ///< explicit draft (rows = picks, 1 = warp up)
+  YarnSpec warp;                        ///< runs along +y
   YarnSpec weft{0.5f, 0.44f, 0.18f, {0.55f, 0.42f, 0.10f}, 28.0f, 1.0f};  ///< runs along +x
-  float crimp = 1.0f;            ///< over/under amplitude; 1 = yarns just touch at crossings, [0, 2]
-  float angle_spread_deg = 6.0f; ///< std. deviation of the random fibre-direction perturbation
+  float crimp = 1.0f;  ///< over/under amplitude; 1 = yarns just touch at crossings, [0, 2]
+  float angle_spread_deg = 6.0f;  ///< std. deviation of the random fibre-direction perturbation
   DensitySpec density;
   ShadingSpec shading;
   ResolutionSpec resolution;
-  uint64_t seed = 1;             ///< seeds every random choice; same seed, same bytes
+  uint64_t seed = 1;  ///< seeds every random choice; same seed, same bytes
 };
 
 /// Checks ranges and consistency; throws InputError naming the field.

@@ -142,7 +142,7 @@ FiberResponse ellipsoid_fiber(const Imath::V3f& tangent, const Imath::V3f& to_li
   int64_t k = static_cast<int64_t>(std::ceil(std::sqrt(static_cast<double>(requested))));
   while (k * k < requested) ++k;
   const float inv_k = 1.0f / static_cast<float>(k);
-  Rng rng(hash_key(seed));
+  Rng rng(hash_key(seed));  // hashed: Rng(s + 1) would replay Rng(s)'s stream shifted by one
   double sum_diffuse = 0.0, sum_specular = 0.0;
   for (int64_t j = 0; j < k; ++j) {
     for (int64_t i = 0; i < k; ++i) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -43,50 +44,63 @@ float smoothstep01(float t) {
 /// roughly in [-1, 1]. Periodic so the texture tiles without seams.
 class PeriodicNoise {
  public:
-  PeriodicNoise(const V3f& size_mm, float scale_mm, uint64_t seed) : m_seed(seed) {
+  PeriodicNoise(const V3f& size_mm, float scale_mm, uint64_t seed) : m_size(size_mm) {
     m_lx = std::max(1, int(std::lround(size_mm.x / scale_mm)));
     m_ly = std::max(1, int(std::lround(size_mm.y / scale_mm)));
     m_lz = std::max(1, int(std::lround(size_mm.z / scale_mm)));
-    m_size = size_mm;
+    // The lattice values are tabulated once: a few thousand hashes instead of
+    // sixteen per lookup.
+    for (int f = 1; f <= 2; ++f) {
+      const int lx = m_lx * f, ly = m_ly * f, lz = m_lz * f + 1;
+      std::vector<float>& table = m_lattice[f - 1];
+      table.resize(size_t(lx) * ly * lz);
+      for (int iz = 0; iz < lz; ++iz)
+        for (int iy = 0; iy < ly; ++iy)
+          for (int ix = 0; ix < lx; ++ix)
+            table[(size_t(iz) * ly + iy) * lx + ix] =
+                2.0f * unit_float(hash_key(seed, k_tag_noise, f, ix, iy, iz)) - 1.0f;
+    }
   }
   float operator()(const V3f& p_texture) const {
     return (octave(p_texture, 1) + 0.5f * octave(p_texture, 2)) / 1.5f;
   }
 
  private:
-  float lattice(int octave_index, int ix, int iy, int iz, int lx, int ly) const {
-    ix = ((ix % lx) + lx) % lx;
-    iy = ((iy % ly) + ly) % ly;
-    return 2.0f * unit_float(hash_key(m_seed, k_tag_noise, octave_index, ix, iy, iz)) - 1.0f;
-  }
   float octave(const V3f& p, int f) const {
     const int lx = m_lx * f, ly = m_ly * f, lz = m_lz * f;
-    const float gx = p.x / m_size.x * lx, gy = p.y / m_size.y * ly, gz = p.z / m_size.z * lz;
-    const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy)), z0 = int(std::floor(gz));
+    const float gx = p.x / m_size.x * lx, gy = p.y / m_size.y * ly;
+    const float gz = std::clamp(p.z / m_size.z * lz, 0.0f, float(lz));
+    const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy));
+    const int z0 = std::min(int(std::floor(gz)), lz - 1);
     const float tx = smoothstep01(gx - x0), ty = smoothstep01(gy - y0), tz = smoothstep01(gz - z0);
+    const std::vector<float>& table = m_lattice[f - 1];
     float acc = 0.0f;
     for (int dz = 0; dz < 2; ++dz)
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
+          const int ix = (((x0 + dx) % lx) + lx) % lx, iy = (((y0 + dy) % ly) + ly) % ly;
           const float w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
-          acc += w * lattice(f, x0 + dx, y0 + dy, z0 + dz, lx, ly);
+          acc += w * table[(size_t(z0 + dz) * ly + iy) * lx + ix];
         }
     return acc;
   }
-  uint64_t m_seed;
-  int m_lx, m_ly, m_lz;
   V3f m_size;
+  int m_lx, m_ly, m_lz;
+  std::vector<float> m_lattice[2];  // per octave, [z][y][x], z has one extra plane
 };
 
 /// The yarn (if any) whose cross-section contains a point, and where in it.
 struct YarnHit {
   float r2 = 2.0f;  ///< squared normalised radius in the elliptical cross-section; <= 1 inside
   YarnFamily family = YarnFamily::None;
-  int index = 0;         ///< warp end or weft pick (unwrapped)
-  V3f axis_texture{0, 0, 0};    ///< unit yarn direction, including the over/under slope
-  V3f radial_texture{0, 0, 1};  ///< unit direction from the centre line to the point, across the axis
-  float polar = 0.0f;    ///< angle of the point around the centre line, normalised ellipse
-  float along_mm = 0.0f; ///< coordinate along the yarn (y for warp, x for weft)
+  int index = 0;              ///< warp end or weft pick (unwrapped)
+  V3f axis_texture{0, 0, 0};  ///< unit yarn direction, including the over/under slope
+  V3f radial_texture{0, 0,
+                     1};  ///< unit direction from the centre line to the point, across the axis
+  float polar = 0.0f;     ///< angle of the point around the centre line, normalised ellipse
+  float along_mm = 0.0f;  ///< coordinate along the yarn (y for warp, x for weft)
+  float ex = 0.0f, ez = 0.0f;  ///< normalised offsets across the yarn and up
+  float slope = 0.0f;          ///< dz/ds of the centre line
 };
 
 class WeaveModel {
@@ -102,7 +116,6 @@ class WeaveModel {
     for (int c = c0 - 1; c <= c0 + 1; ++c) consider_warp(p_texture, c, best);
     const int r0 = int(std::floor(p_texture.y / sf));
     for (int r = r0 - 1; r <= r0 + 1; ++r) consider_weft(p_texture, r, best);
-    (void)sw;
     return best;
   }
 
@@ -121,28 +134,31 @@ class WeaveModel {
   void consider_warp(const V3f& p, int end, YarnHit& best) const {
     const YarnSpec& y = m_spec.warp;
     const float x_c = (end + 0.5f) * y.spacing_mm;
+    const float ex = (p.x - x_c) / (0.5f * y.width_mm);
+    if (ex * ex > 1.0f) return;  // outside this end's width: skip the path
     const float u = p.y / m_spec.weft.spacing_mm - 0.5f;
     const int pick = int(std::floor(u));
     const float s0 = m_draft.warp_up(pick, end) ? 1.0f : -1.0f;
     const float s1 = m_draft.warp_up(pick + 1, end) ? 1.0f : -1.0f;
     float z_c, slope;
     path(u, s0, s1, m_spec.weft.spacing_mm, z_c, slope);
-    const float ex = (p.x - x_c) / (0.5f * y.width_mm);
     const float ez = (p.z - z_c) / (0.5f * y.thickness_mm);
     const float r2 = ex * ex + ez * ez;
     if (r2 > 1.0f || r2 >= best.r2) return;
     best.r2 = r2;
     best.family = YarnFamily::Warp;
     best.index = end;
-    best.axis_texture = V3f(0.0f, 1.0f, slope).normalized();
-    best.radial_texture = radial(V3f(p.x - x_c, 0.0f, p.z - z_c), best.axis_texture);
-    best.polar = std::atan2(ez, ex);
+    best.ex = ex;
+    best.ez = ez;
+    best.slope = slope;
     best.along_mm = p.y;
   }
 
   void consider_weft(const V3f& p, int pick, YarnHit& best) const {
     const YarnSpec& y = m_spec.weft;
     const float y_c = (pick + 0.5f) * y.spacing_mm;
+    const float ey = (p.y - y_c) / (0.5f * y.width_mm);
+    if (ey * ey > 1.0f) return;
     const float u = p.x / m_spec.warp.spacing_mm - 0.5f;
     const int end = int(std::floor(u));
     // The weft is over exactly where the warp is under.
@@ -150,19 +166,32 @@ class WeaveModel {
     const float s1 = m_draft.warp_up(pick, end + 1) ? -1.0f : 1.0f;
     float z_c, slope;
     path(u, s0, s1, m_spec.warp.spacing_mm, z_c, slope);
-    const float ey = (p.y - y_c) / (0.5f * y.width_mm);
     const float ez = (p.z - z_c) / (0.5f * y.thickness_mm);
     const float r2 = ey * ey + ez * ez;
     if (r2 > 1.0f || r2 >= best.r2) return;
     best.r2 = r2;
     best.family = YarnFamily::Weft;
     best.index = pick;
-    best.axis_texture = V3f(1.0f, 0.0f, slope).normalized();
-    best.radial_texture = radial(V3f(0.0f, p.y - y_c, p.z - z_c), best.axis_texture);
-    best.polar = std::atan2(ez, ey);
+    best.ex = ey;
+    best.ez = ez;
+    best.slope = slope;
     best.along_mm = p.x;
   }
 
+ public:
+  /// Fills the frame of a hit (axis, radial direction, polar angle): needed
+  /// once per cell, not per sub-cell point.
+  void complete(YarnHit& h) const {
+    const bool warp = h.family == YarnFamily::Warp;
+    const YarnSpec& y = warp ? m_spec.warp : m_spec.weft;
+    const float across_mm = h.ex * 0.5f * y.width_mm, up_mm = h.ez * 0.5f * y.thickness_mm;
+    h.axis_texture = (warp ? V3f(0.0f, 1.0f, h.slope) : V3f(1.0f, 0.0f, h.slope)).normalized();
+    h.radial_texture =
+        radial(warp ? V3f(across_mm, 0.0f, up_mm) : V3f(0.0f, across_mm, up_mm), h.axis_texture);
+    h.polar = std::atan2(h.ez, h.ex);
+  }
+
+ private:
   static V3f radial(V3f d, const V3f& axis) {
     d -= axis * d.dot(axis);
     const float len = d.length();
@@ -204,7 +233,8 @@ WeaveGeometry weave_geometry(const ClothSpec& spec) {
 uint64_t estimated_volume_bytes(const ClothSpec& spec) {
   const ResolutionSpec& r = spec.resolution;
   // Computed in floating point first so absurd resolutions cannot overflow.
-  const double cells = double(std::max(r.cells_x, 0)) * std::max(r.cells_y, 0) * std::max(r.layers, 0);
+  const double cells =
+      double(std::max(r.cells_x, 0)) * std::max(r.cells_y, 0) * std::max(r.layers, 0);
   const double bytes = cells * sizeof(Cell) + 4096.0;
   return bytes > 1.8e19 ? UINT64_MAX : uint64_t(bytes);
 }
@@ -247,6 +277,12 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         // most central hit decides the cell's yarn.
         float rho_sum = 0.0f;
         YarnHit central;
+        // The noise varies over noise_scale_mm (several cells): sampled once,
+        // at the cell centre.
+        const V3f centre_texture((i + 0.5f) * cell_mm.x, (j + 0.5f) * cell_mm.y,
+                                 (k + 0.5f) * cell_mm.z);
+        const float grain =
+            std::max(0.0f, 1.0f + spec.density.noise_amplitude * noise(centre_texture));
         for (int sz = 0; sz < ss; ++sz)
           for (int sy = 0; sy < ss; ++sy)
             for (int sx = 0; sx < ss; ++sx) {
@@ -259,7 +295,6 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
               const float profile = d.edge + (d.core - d.edge) * std::pow(1.0f - h.r2, d.falloff);
               const float height = p_texture.z / geom.size_mm.z;  // 1 at the top face
               const float depth = 1.0f + (d.top_factor - 1.0f) * smoothstep01(height);
-              const float grain = std::max(0.0f, 1.0f + d.noise_amplitude * noise(p_texture));
               rho_sum += std::min(1.0f, profile * depth * grain);
               if (h.r2 < central.r2) central = h;
             }
@@ -270,6 +305,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
           continue;
         }
         cell.family = central.family;
+        weave.complete(central);
 
         // Step 2: the fibre tangent. Which of the two bundles the point is in
         // turns with the ply phase along the yarn; bundle 0 runs at +twist,
@@ -280,8 +316,9 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         const int yarn_id = ((central.index % count) + count) % count;
         const float repeat_mm = warp ? geom.size_mm.y : geom.size_mm.x;
         const float turns = warp ? warp_turns : weft_turns;
-        const float phase0 = 2.0f * k_pi *
-                             unit_float(hash_key(spec.seed, k_tag_phase, uint64_t(central.family), yarn_id));
+        const float phase0 =
+            2.0f * k_pi *
+            unit_float(hash_key(spec.seed, k_tag_phase, uint64_t(central.family), yarn_id));
         const float phase = phase0 + 2.0f * k_pi * turns * central.along_mm / repeat_mm;
         float rel = std::fmod(central.polar - phase, 2.0f * k_pi);
         if (rel < 0.0f) rel += 2.0f * k_pi;
@@ -306,12 +343,13 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         const uint64_t shade_key = hash_key(spec.seed, k_tag_shade, i, j, k);
         const float v1 = 2.0f * unit_float(mix64(shade_key)) - 1.0f;
         const float v2 = 2.0f * unit_float(mix64(shade_key + 1)) - 1.0f;
-        cell.specular = std::clamp(
-            (s.specular_bottom + (s.specular_top - s.specular_bottom) * h) * (1.0f + s.variation * v1),
-            0.0f, 1.0f);
+        cell.specular = std::clamp((s.specular_bottom + (s.specular_top - s.specular_bottom) * h) *
+                                       (1.0f + s.variation * v1),
+                                   0.0f, 1.0f);
         const float dscale =
             (s.diffuse_bottom + (s.diffuse_top - s.diffuse_bottom) * h) * (1.0f + s.variation * v2);
-        for (int c = 0; c < 3; ++c) cell.diffuse[c] = std::clamp(yarn.color[c] * dscale, 0.0f, 1.0f);
+        for (int c = 0; c < 3; ++c)
+          cell.diffuse[c] = std::clamp(yarn.color[c] * dscale, 0.0f, 1.0f);
         cell.exponent = s.exponent;
       }
     }

@@ -10,9 +10,9 @@ VolumeTexture::VolumeTexture(int nx, int ny, int nz, const Imath::V3f& size_mm)
     : m_nx(nx), m_ny(ny), m_nz(nz), m_size_mm(size_mm), m_cells(size_t(nx) * ny * nz) {}
 
 uint64_t VolumeTexture::content_hash() const {
-  uint64_t h = hash_key(uint64_t(m_nx), uint64_t(m_ny), uint64_t(m_nz),
-                        std::bit_cast<uint32_t>(m_size_mm.x), std::bit_cast<uint32_t>(m_size_mm.y),
-                        std::bit_cast<uint32_t>(m_size_mm.z));
+  uint64_t h =
+      hash_key(uint64_t(m_nx), uint64_t(m_ny), uint64_t(m_nz), std::bit_cast<uint32_t>(m_size_mm.x),
+               std::bit_cast<uint32_t>(m_size_mm.y), std::bit_cast<uint32_t>(m_size_mm.z));
   auto add = [&h](float v) { h = mix64(h ^ std::bit_cast<uint32_t>(v)); };
   for (const Cell& c : m_cells) {
     add(c.density);

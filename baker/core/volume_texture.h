@@ -20,11 +20,11 @@ enum class YarnFamily : uint8_t { None = 0, Warp = 1, Weft = 2 };
 
 /// One cell: density rho, fibre tangent v and shading coefficients f.
 struct Cell {
-  float density = 0.0f;        ///< rho in [0, 1]: fraction of the cell occupied by fibre
-  Imath::V3f tangent{0, 0, 0}; ///< unit fibre direction in texture space; zero where rho = 0
-  Imath::V3f diffuse{0, 0, 0}; ///< diffuse colour (linear RGB albedo)
-  float specular = 0.0f;       ///< specular strength
-  float exponent = 0.0f;       ///< Phong exponent
+  float density = 0.0f;         ///< rho in [0, 1]: fraction of the cell occupied by fibre
+  Imath::V3f tangent{0, 0, 0};  ///< unit fibre direction in texture space; zero where rho = 0
+  Imath::V3f diffuse{0, 0, 0};  ///< diffuse colour (linear RGB albedo)
+  float specular = 0.0f;        ///< specular strength
+  float exponent = 0.0f;        ///< Phong exponent
   YarnFamily family = YarnFamily::None;
 };
 

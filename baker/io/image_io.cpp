@@ -23,8 +23,7 @@ oiio::ImageBuf to_imagebuf(const Image& image) {
 
 void write_buf(const std::string& path, const oiio::ImageBuf& buf, oiio::TypeDesc type) {
   write_atomically(path, [&](const std::string& temp) {
-    if (!buf.write(temp, type))
-      throw InputError("", "cannot write image: " + buf.geterror(), path);
+    if (!buf.write(temp, type)) throw InputError("", "cannot write image: " + buf.geterror(), path);
   });
 }
 }  // namespace
@@ -53,15 +52,14 @@ Image color_map(const Image& scalar, const char* map_name, float lo, float hi) {
   for (float& v : unit.pixels) v = std::clamp((v - lo) / span, 0.0f, 1.0f);
   oiio::ImageBuf mapped = oiio::ImageBufAlgo::color_map(to_imagebuf(unit), 0, map_name);
   Image out(scalar.width, scalar.height, 3);
-  mapped.get_pixels(oiio::ROI(0, scalar.width, 0, scalar.height, 0, 1, 0, 3),
-                    oiio::TypeDesc::FLOAT, out.pixels.data());
+  mapped.get_pixels(oiio::ROI(0, scalar.width, 0, scalar.height, 0, 1, 0, 3), oiio::TypeDesc::FLOAT,
+                    out.pixels.data());
   return out;
 }
 
 void draw_label(Image& image, int x, int y, const std::string& text, int font_size, float r,
                 float g, float b) {
-  static const char* k_fonts[] = {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-                                  "DejaVuSans"};
+  static const char* k_fonts[] = {"/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf", "DejaVuSans"};
   oiio::ImageBuf buf = to_imagebuf(image);
   const float colour[] = {r, g, b, 1.0f};
   for (const char* font : k_fonts) {

@@ -22,7 +22,7 @@ Image color_map(const Image& scalar, const char* map_name, float lo, float hi);
 
 /// Draws text onto an RGB image in place (DejaVu Sans if installed; silently
 /// skipped if no font is available, since labels are a convenience).
-void draw_label(Image& image, int x, int y, const std::string& text, int font_size,
-                float r = 1.0f, float g = 1.0f, float b = 1.0f);
+void draw_label(Image& image, int x, int y, const std::string& text, int font_size, float r = 1.0f,
+                float g = 1.0f, float b = 1.0f);
 
 }  // namespace clothbake::io

@@ -47,9 +47,9 @@ nlohmann::json read_json_file(const std::string& path) {
     // nlohmann's message starts with "[json.exception.parse_error.101] parse error at ...".
     const auto colon = what.find("parse error");
     if (colon != std::string::npos) what = what.substr(colon);
-    throw InputError("", "malformed JSON at " + line_col(text, e.byte ? e.byte - 1 : 0) + " (" +
-                             what + ")",
-                     path);
+    throw InputError(
+        "", "malformed JSON at " + line_col(text, e.byte ? e.byte - 1 : 0) + " (" + what + ")",
+        path);
   } catch (const nlohmann::json::exception& e) {
     // e.g. out_of_range 406 for 1e999: JSON numbers must fit a double.
     std::string what = e.what();
@@ -61,8 +61,7 @@ nlohmann::json read_json_file(const std::string& path) {
 
 JsonObject::JsonObject(const nlohmann::json& value, std::string path, std::string file)
     : m_value(value), m_path(std::move(path)), m_file(std::move(file)) {
-  if (!m_value.is_object())
-    fail(m_path, "expected an object, got " + type_name(m_value));
+  if (!m_value.is_object()) fail(m_path, "expected an object, got " + type_name(m_value));
 }
 
 void JsonObject::fail(const std::string& field_path, const std::string& message) const {
@@ -94,8 +93,9 @@ void JsonObject::read(const char* key, float& out) const {
 void JsonObject::read(const char* key, int& out) const {
   if (!has(key)) return;
   const auto& v = m_value.at(key);
-  if (!v.is_number_integer()) fail(field(key), "expected an integer, got " + type_name(v) +
-                                                   (v.is_number() ? " with a fraction" : ""));
+  if (!v.is_number_integer())
+    fail(field(key),
+         "expected an integer, got " + type_name(v) + (v.is_number() ? " with a fraction" : ""));
   const int64_t i = v.get<int64_t>();
   if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
     fail(field(key), "integer out of range: " + std::to_string(i));

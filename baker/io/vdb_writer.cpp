@@ -56,8 +56,8 @@ void write_volume_vdb(const std::string& path, const VolumeTexture& volume,
   meta.insertMeta("clothbake_description", openvdb::StringMetadata(description));
   meta.insertMeta("clothbake_units", openvdb::StringMetadata("mm"));
   meta.insertMeta("clothbake_size_mm",
-                  openvdb::Vec3DMetadata(openvdb::Vec3d(volume.size_mm().x, volume.size_mm().y,
-                                                        volume.size_mm().z)));
+                  openvdb::Vec3DMetadata(
+                      openvdb::Vec3d(volume.size_mm().x, volume.size_mm().y, volume.size_mm().z)));
   write_atomically(path, [&](const std::string& temp) {
     try {
       openvdb::io::File file(temp);

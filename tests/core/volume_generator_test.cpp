@@ -67,7 +67,8 @@ TEST(VolumeGenerator, CellsAreWellFormed) {
 // The family of the top-most occupied cell above each crossing's centre must be
 // the yarn the draft puts on top there, for every crossing of several weaves.
 TEST(VolumeGenerator, TopYarnFollowsTheDraftAtEveryCrossing) {
-  for (const char* pattern : {"plain", "twill_2_1", "twill_2_2", "satin_5", "satin_8", "basket_2x2"}) {
+  for (const char* pattern :
+       {"plain", "twill_2_1", "twill_2_2", "satin_5", "satin_8", "basket_2x2"}) {
     ClothSpec s;
     s.pattern = pattern;
     const WeaveDraft d = WeaveDraft::named(pattern);
@@ -77,8 +78,7 @@ TEST(VolumeGenerator, TopYarnFollowsTheDraftAtEveryCrossing) {
       for (int e = 0; e < d.ends(); ++e) {
         const int i = 8 * e + 4, j = 8 * p + 4;  // the cell at the crossing's centre
         YarnFamily top = YarnFamily::None;
-        for (int k = v.nz() - 1; k >= 0 && top == YarnFamily::None; --k)
-          top = v.at(i, j, k).family;
+        for (int k = v.nz() - 1; k >= 0 && top == YarnFamily::None; --k) top = v.at(i, j, k).family;
         EXPECT_EQ(top, d.warp_up(p, e) ? YarnFamily::Warp : YarnFamily::Weft)
             << pattern << " pick " << p << " end " << e;
       }
@@ -111,7 +111,8 @@ TEST(VolumeGenerator, FibresLieAtPlusOrMinusTheTwistAngle) {
         ASSERT_NEAR(angle, twist, 0.01) << i << "," << j << "," << k;
         const V3f p((i + 0.5f) * cell.x, (j + 0.5f) * cell.y, (k + 0.5f) * cell.z);
         const float centre = (std::floor((warp ? p.x : p.y) / 0.5f) + 0.5f) * 0.5f;
-        const V3f radial = warp ? V3f(p.x - centre, 0, p.z - z_mid) : V3f(0, p.y - centre, p.z - z_mid);
+        const V3f radial =
+            warp ? V3f(p.x - centre, 0, p.z - z_mid) : V3f(0, p.y - centre, p.z - z_mid);
         const V3f off_axis = c.tangent - axis * c.tangent.dot(axis);
         (off_axis.dot(radial.cross(axis)) > 0 ? plus : minus)[int(c.family)]++;
       }
@@ -136,7 +137,8 @@ TEST(VolumeGenerator, AngleSpreadHasTheRequestedDeviation) {
     const V3f axis = c.family == YarnFamily::Warp ? V3f(0, 1, 0) : V3f(1, 0, 0);
     // Deviation from the nearer of the two bundles' exact directions is
     // bounded below by the deviation of the angle to the axis.
-    const double angle = std::acos(std::clamp(double(std::fabs(c.tangent.dot(axis))), 0.0, 1.0)) * k_deg;
+    const double angle =
+        std::acos(std::clamp(double(std::fabs(c.tangent.dot(axis))), 0.0, 1.0)) * k_deg;
     const double off = angle - 30.0;
     sum_sq += off * off;
     ++n;
@@ -243,13 +245,15 @@ TEST(VolumeGenerator, TexturePeriodicAcrossTheRepeat) {
   auto column_diff = [&](int i0, int i1) {
     double d = 0.0;
     for (int k = 0; k < v.nz(); ++k)
-      for (int j = 0; j < v.ny(); ++j) d += std::fabs(v.at(i0, j, k).density - v.at(i1, j, k).density);
+      for (int j = 0; j < v.ny(); ++j)
+        d += std::fabs(v.at(i0, j, k).density - v.at(i1, j, k).density);
     return d;
   };
   auto row_diff = [&](int j0, int j1) {
     double d = 0.0;
     for (int k = 0; k < v.nz(); ++k)
-      for (int i = 0; i < v.nx(); ++i) d += std::fabs(v.at(i, j0, k).density - v.at(i, j1, k).density);
+      for (int i = 0; i < v.nx(); ++i)
+        d += std::fabs(v.at(i, j0, k).density - v.at(i, j1, k).density);
     return d;
   };
   double interior_x = 0.0, interior_y = 0.0;

@@ -16,8 +16,9 @@ class ClothSpecJson : public ::testing::Test {
  protected:
   void SetUp() override {
     m_dir = fs::temp_directory_path() /
-            ("clothbake_spec_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+            ("clothbake_spec_test_" +
+             std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(m_dir);
   }
   void TearDown() override { fs::remove_all(m_dir); }
@@ -58,18 +59,22 @@ TEST_F(ClothSpecJson, AbsentKeysKeepDefaults) {
 }
 
 TEST_F(ClothSpecJson, ReadsACustomDraft) {
-  const ClothSpec s = load_cloth_spec(write("spec.json", R"({"weave": {"draft": [[1,0,0],[0,1,0],[0,0,1]]}})"));
+  const ClothSpec s =
+      load_cloth_spec(write("spec.json", R"({"weave": {"draft": [[1,0,0],[0,1,0],[0,0,1]]}})"));
   ASSERT_EQ(s.draft.size(), 3u);
   EXPECT_EQ(s.draft[1][1], 1);
 }
 
 TEST_F(ClothSpecJson, ErrorsNameTheField) {
-  EXPECT_EQ(error_of(R"({"warp": {"width_mm": "wide"}})"), "warp.width_mm | expected a number, got a string");
+  EXPECT_EQ(error_of(R"({"warp": {"width_mm": "wide"}})"),
+            "warp.width_mm | expected a number, got a string");
   EXPECT_EQ(error_of(R"({"warp": {"widht_mm": 0.3}})").substr(0, 24), "warp.widht_mm | unknown ");
   EXPECT_EQ(error_of(R"({"resolution": {"layers": 2.5}})"),
             "resolution.layers | expected an integer, got a number with a fraction");
-  EXPECT_EQ(error_of(R"({"weave": {"pattern": "tartan"}})").substr(0, 32), "weave.pattern | unknown weave 't");
-  EXPECT_EQ(error_of(R"({"weave": {"draft": [[1,0],[0,2]]}})").substr(0, 21), "weave.draft[1][1] | e");
+  EXPECT_EQ(error_of(R"({"weave": {"pattern": "tartan"}})").substr(0, 32),
+            "weave.pattern | unknown weave 't");
+  EXPECT_EQ(error_of(R"({"weave": {"draft": [[1,0],[0,2]]}})").substr(0, 21),
+            "weave.draft[1][1] | e");
   EXPECT_EQ(error_of(R"({"weave": {"draft": []}})"), "weave.draft | the draft is empty");
   EXPECT_EQ(error_of(R"({"weft": {"thickness_mm": -0.1}})").substr(0, 35),
             "weft.thickness_mm | must be greater");
