@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   clothbake::cli::register_volume_command(app);
   clothbake::cli::register_fiber_command(app);
+  clothbake::cli::register_render_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

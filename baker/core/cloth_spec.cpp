@@ -36,7 +36,9 @@ void validate_yarn(const YarnSpec& y, const std::string& f) {
 
 void validate(const ClothSpec& spec) {
   // The draft constructor checks shape and interlacing and names the field.
-  if (spec.draft.empty())
+  if (spec.draft.empty() && spec.pattern == k_uniform_pattern) {
+    // no draft: a homogeneous slab
+  } else if (spec.draft.empty())
     (void)WeaveDraft::named(spec.pattern);
   else
     (void)WeaveDraft(spec.draft);

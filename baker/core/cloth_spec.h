@@ -51,8 +51,13 @@ struct ResolutionSpec {
   int supersample = 2;  ///< s: each cell's rho averages s^3 sub-cell points, [1, 8]
 };
 
+/// Pattern name of a homogeneous slab instead of a weave: every cell has
+/// rho = density.core, tangent +x, the warp colour times shading.diffuse_top
+/// and shading.specular_top, no noise or variation. For analytic checks.
+inline constexpr const char* k_uniform_pattern = "uniform";
+
 struct ClothSpec {
-  std::string pattern = "plain";        ///< named draft; ignored when `draft` is non-empty
+  std::string pattern = "plain";  ///< named draft or "uniform"; ignored when `draft` is non-empty
   std::vector<std::vector<int>> draft;  ///< explicit draft (rows = picks, 1 = warp up)
   YarnSpec warp;                        ///< runs along +y
   YarnSpec weft{0.5f, 0.44f, 0.18f, {0.55f, 0.42f, 0.10f}, 28.0f, 1.0f};  ///< runs along +x

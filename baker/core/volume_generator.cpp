@@ -31,7 +31,12 @@ enum : uint64_t {
   k_tag_shade = 0x7368616465ull,
 };
 
+bool is_uniform(const ClothSpec& spec) {
+  return spec.draft.empty() && spec.pattern == k_uniform_pattern;
+}
+
 WeaveDraft draft_of(const ClothSpec& spec) {
+  if (is_uniform(spec)) return WeaveDraft({{1, 0}, {0, 1}});  // only sizes the repeat
   return spec.draft.empty() ? WeaveDraft::named(spec.pattern) : WeaveDraft(spec.draft);
 }
 
@@ -255,6 +260,19 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
   const WeaveGeometry& geom = weave.geometry();
   const ResolutionSpec& res = spec.resolution;
   VolumeTexture volume(res.cells_x, res.cells_y, res.layers, geom.size_mm);
+  if (is_uniform(spec)) {
+    Cell c;
+    c.density = spec.density.core;
+    c.tangent = V3f(1.0f, 0.0f, 0.0f);
+    c.diffuse = spec.warp.color * spec.shading.diffuse_top;
+    c.specular = spec.shading.specular_top;
+    c.exponent = spec.shading.exponent;
+    c.family = YarnFamily::Warp;
+    for (int k = 0; k < res.layers; ++k)
+      for (int j = 0; j < res.cells_y; ++j)
+        for (int i = 0; i < res.cells_x; ++i) volume.at(i, j, k) = c;
+    return volume;
+  }
   const V3f cell_mm = volume.cell_size_mm();
   const PeriodicNoise noise(geom.size_mm, spec.density.noise_scale_mm, spec.seed);
   const int ss = res.supersample;

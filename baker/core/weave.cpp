@@ -81,7 +81,7 @@ WeaveDraft WeaveDraft::named(std::string_view name) {
   std::string list;
   for (const auto& n : names()) list += (list.empty() ? "" : ", ") + n;
   throw InputError("weave.pattern", "unknown weave '" + std::string(name) + "'; expected one of: " +
-                                        list + ", or give weave.draft as a matrix");
+                                        list + ", uniform (a homogeneous slab), or give weave.draft as a matrix");
 }
 
 bool WeaveDraft::warp_up(int pick, int end) const {

@@ -1,0 +1,141 @@
+#include "core/light_transmittance.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "core/cell_walk.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+
+float march_cap_mm(const VolumeTexture& volume) {
+  return 64.0f * std::max(volume.size_mm().x, volume.size_mm().y);
+}
+
+/// sigma * integral of rho along p + t d, t in [0, length], stopping early
+/// once the light is blocked.
+float optical_depth(const VolumeTexture& volume, const V3f& p, const V3f& d, float length,
+                    float sigma) {
+  float tau = 0.0f;
+  walk_cells(volume, p, d, length, [&](const Cell& c, float t0, float t1) {
+    tau += sigma * c.density * (t1 - t0);
+    return tau < k_opaque_optical_depth;
+  });
+  return tau;
+}
+
+int wrap(int i, int n) { return ((i % n) + n) % n; }
+}  // namespace
+
+float shadow_transmittance(const VolumeTexture& volume, const V3f& p_texture,
+                           const V3f& to_light_texture, float extinction_per_mm) {
+  const float length = distance_to_exit(volume, p_texture, to_light_texture, march_cap_mm(volume));
+  const float tau = optical_depth(volume, p_texture, to_light_texture, length, extinction_per_mm);
+  return tau >= k_opaque_optical_depth ? 0.0f : std::exp(-tau);
+}
+
+TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const V3f& to_light,
+                                             float sigma) {
+  TransmittanceCache cache;
+  cache.m_nx = volume.nx();
+  cache.m_ny = volume.ny();
+  cache.m_nz = volume.nz();
+  cache.m_cell = volume.cell_size_mm();
+  cache.m_tau.assign(volume.cell_count(), 0.0f);
+  cache.m_from_above = to_light.z >= 0.0f;
+  const V3f cell = cache.m_cell;
+  const int nx = cache.m_nx, ny = cache.m_ny, nz = cache.m_nz;
+  auto at = [&](int i, int j, int k) -> float& {
+    return cache.m_tau[(size_t(k) * ny + j) * nx + i];
+  };
+  // Nearly horizontal light: layer-by-layer propagation would interpolate
+  // over very long segments; march every cell exactly instead.
+  const bool grazing = std::fabs(to_light.z) < 0.05f;
+  if (grazing) {
+    tbb::parallel_for(0, nz * ny, [&](int row) {
+      const int k = row / ny, j = row % ny;
+      for (int i = 0; i < nx; ++i) {
+        const V3f p((i + 0.5f) * cell.x, (j + 0.5f) * cell.y, (k + 0.5f) * cell.z);
+        at(i, j, k) = optical_depth(volume, p, to_light,
+                                    distance_to_exit(volume, p, to_light, march_cap_mm(volume)),
+                                    sigma);
+      }
+    });
+    return cache;
+  }
+  // The layer nearest the light: exact march to the face. Then each further
+  // layer: exact segment to the previous layer's centre plane, times the
+  // transmittance there (bilinear between that layer's cell centres).
+  const bool from_above = to_light.z > 0.0f;
+  const int first = from_above ? nz - 1 : 0, dir = from_above ? -1 : 1;
+  const float seg = cell.z / std::fabs(to_light.z);  // length between centre planes
+  const V3f shift = to_light * seg;                   // offset to the previous plane
+  for (int n = 0; n < nz; ++n) {
+    const int k = first + dir * n;
+    tbb::parallel_for(0, ny, [&](int j) {
+      for (int i = 0; i < nx; ++i) {
+        const V3f p((i + 0.5f) * cell.x, (j + 0.5f) * cell.y, (k + 0.5f) * cell.z);
+        if (n == 0) {
+          at(i, j, k) = optical_depth(volume, p, to_light,
+                                      distance_to_exit(volume, p, to_light, march_cap_mm(volume)),
+                                      sigma);
+          continue;
+        }
+        const float tau = optical_depth(volume, p, to_light, seg, sigma);
+        if (tau >= k_opaque_optical_depth) {
+          at(i, j, k) = k_opaque_optical_depth;
+          continue;
+        }
+        // Bilinear in the previous layer, periodic.
+        const float gx = (p.x + shift.x) / cell.x - 0.5f, gy = (p.y + shift.y) / cell.y - 0.5f;
+        const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy));
+        const float fx = gx - x0, fy = gy - y0;
+        const int kp = k - dir;
+        const float t00 = at(wrap(x0, nx), wrap(y0, ny), kp);
+        const float t10 = at(wrap(x0 + 1, nx), wrap(y0, ny), kp);
+        const float t01 = at(wrap(x0, nx), wrap(y0 + 1, ny), kp);
+        const float t11 = at(wrap(x0 + 1, nx), wrap(y0 + 1, ny), kp);
+        const float prev =
+            (t00 * (1 - fx) + t10 * fx) * (1 - fy) + (t01 * (1 - fx) + t11 * fx) * fy;
+        at(i, j, k) = std::min(k_opaque_optical_depth, tau + prev);
+      }
+    });
+  }
+  return cache;
+}
+
+float TransmittanceCache::lookup(const V3f& p) const {
+  const float gx = p.x / m_cell.x - 0.5f, gy = p.y / m_cell.y - 0.5f;
+  float gz = p.z / m_cell.z - 0.5f;
+  const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy));
+  const float fx = gx - x0, fy = gy - y0;
+  const int xa = wrap(x0, m_nx), xb = wrap(x0 + 1, m_nx), ya = wrap(y0, m_ny), yb = wrap(y0 + 1, m_ny);
+  auto tau = [&](int i, int j, int k) { return m_tau[(size_t(k) * m_ny + j) * m_nx + i]; };
+  auto layer = [&](int k) {
+    return (tau(xa, ya, k) * (1 - fx) + tau(xb, ya, k) * fx) * (1 - fy) +
+           (tau(xa, yb, k) * (1 - fx) + tau(xb, yb, k) * fx) * fy;
+  };
+  float depth;
+  // Between the face the light enters by (optical depth 0 everywhere on it)
+  // and the outermost layer's centres: interpolate toward 0.
+  if (m_from_above && gz > float(m_nz - 1)) {
+    const float f = std::min(1.0f, (gz - float(m_nz - 1)) * 2.0f);
+    depth = layer(m_nz - 1) * (1.0f - f);
+  } else if (!m_from_above && gz < 0.0f) {
+    const float f = std::min(1.0f, -gz * 2.0f);
+    depth = layer(0) * (1.0f - f);
+  } else {
+    gz = std::clamp(gz, 0.0f, float(m_nz - 1));
+    const int z0 = std::min(int(gz), std::max(m_nz - 2, 0));
+    const int z1 = std::min(z0 + 1, m_nz - 1);
+    const float fz = z1 > z0 ? gz - float(z0) : 0.0f;
+    depth = layer(z0) * (1.0f - fz) + layer(z1) * fz;
+  }
+  return depth >= k_opaque_optical_depth ? 0.0f : std::exp(-depth);
+}
+
+}  // namespace clothbake

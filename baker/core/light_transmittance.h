@@ -1,0 +1,52 @@
+#pragma once
+/// Light reaching a point inside the volume texture (PAPER.md s.5 step 3a),
+/// in both forms the renderer offers:
+///  - shadow_transmittance(): the paper's own, a march from the point toward
+///    the light through the cells (a DDA, exact for cells of constant rho);
+///  - TransmittanceCache: the same quantity computed once per quad and light
+///    over the whole grid (layer by layer, each cell's segment to the next
+///    layer exact, the rest interpolated) and then looked up trilinearly.
+/// Transmittance = exp(-sigma * sum(rho * segment length)), lengths in mm of
+/// texture space, sigma = extinction per mm at rho = 1.
+
+#include <vector>
+
+#include <Imath/ImathVec.h>
+
+#include "core/volume_texture.h"
+
+namespace clothbake {
+
+/// Optical depth beyond which light is taken as fully blocked (T < 1e-9).
+inline constexpr float k_opaque_optical_depth = 20.0f;
+
+/// Transmittance from p_texture to the face of the volume facing the light,
+/// along `to_light_texture` (unit, texture space). A light in the texture's
+/// plane (to_light.z ~ 0) never leaves a periodic slab: the march is capped
+/// at 64 repeats.
+float shadow_transmittance(const VolumeTexture& volume, const Imath::V3f& p_texture,
+                           const Imath::V3f& to_light_texture, float extinction_per_mm);
+
+class TransmittanceCache {
+ public:
+  TransmittanceCache() = default;
+  /// Transmittance at every cell centre toward a light in direction
+  /// `to_light_texture` (unit, texture space), the same for the whole quad.
+  static TransmittanceCache build(const VolumeTexture& volume, const Imath::V3f& to_light_texture,
+                                  float extinction_per_mm);
+
+  /// Transmittance at p: optical depth interpolated trilinearly between cell
+  /// centres (periodic in x and y) and toward 0 at the face the light enters
+  /// by; interpolating depth rather than transmittance keeps a homogeneous
+  /// slab exact (depth is linear in z there, transmittance is not).
+  float lookup(const Imath::V3f& p_texture) const;
+  bool empty() const { return m_tau.empty(); }
+
+ private:
+  int m_nx = 0, m_ny = 0, m_nz = 0;
+  Imath::V3f m_cell{1, 1, 1};
+  bool m_from_above = true;
+  std::vector<float> m_tau;  // optical depth toward the light at cell centres, [k][j][i]
+};
+
+}  // namespace clothbake

@@ -1,0 +1,91 @@
+#pragma once
+/// The map m of Kimoto & Ohno section 4 (PAPER.md s.4) for one quad: the
+/// bilinear patch through its four corners, mapped onto the volume texture's
+/// top face through the mesh's UVs, with the local frame that carries
+/// directions into texture space. Correct for non-planar quads: every
+/// quantity is evaluated at the hit's own patch parameters (s, t).
+///
+/// Spaces: *world* (the scene), *local* (the orthonormal frame T, B, N at a
+/// point, world units), *texture* (millimetres of the volume texture: x along
+/// the weft, y along the warp, z up; the top face is z = size_mm.z).
+
+#include <Imath/ImathVec.h>
+
+#include "core/camera.h"
+#include "core/quad_mesh.h"
+
+namespace clothbake {
+
+/// Orthonormal frame at a surface point plus the scale of the map m there.
+struct SurfaceFrame {
+  Imath::V3f tangent_world;    ///< T: unit, direction in which texture x grows (in the tangent plane)
+  Imath::V3f bitangent_world;  ///< B = N x T
+  Imath::V3f normal_world;     ///< N: unit front normal, (dP/ds x dP/dt) direction
+  /// Texture millimetres per world unit along T, B and N. The B entry is
+  /// negative where the UVs are mirrored (texture y grows along -B).
+  Imath::V3f mm_per_world;
+
+  /// A world direction (or offset) carried into texture space (mm).
+  Imath::V3f texture_from_world(const Imath::V3f& d_world) const {
+    return {d_world.dot(tangent_world) * mm_per_world.x,
+            d_world.dot(bitangent_world) * mm_per_world.y,
+            d_world.dot(normal_world) * mm_per_world.z};
+  }
+  /// A texture-space direction as a world direction (not normalised).
+  Imath::V3f world_from_texture(const Imath::V3f& d_texture) const {
+    return tangent_world * (d_texture.x / mm_per_world.x) +
+           bitangent_world * (d_texture.y / mm_per_world.y) +
+           normal_world * (d_texture.z / mm_per_world.z);
+  }
+};
+
+/// Where a ray meets a patch.
+struct PatchHit {
+  float t_world = 0.0f;  ///< ray parameter (world units along the unit direction)
+  float s = 0.0f, t = 0.0f;  ///< patch parameters in [0, 1]^2
+  bool front_facing = true;  ///< the ray arrives from the side N points to
+};
+
+class QuadPatch {
+ public:
+  QuadPatch() = default;
+  /// Quad `quad_index` of `mesh`; `repeats_per_uv` weave repeats per UV unit;
+  /// `repeat_mm` is the texture's repeat size (x, y) and `thickness_mm` its
+  /// depth, which spans `thickness_world` in the scene. Degenerate quads (zero
+  /// area, or UVs of zero area) make valid() false.
+  QuadPatch(const QuadMesh& mesh, int quad_index, float repeats_per_uv, Imath::V2f repeat_mm,
+            float thickness_mm, float thickness_world);
+
+  bool valid() const { return m_valid; }
+
+  /// Nearest intersection with t_world in (t_min, t_max). Handles non-planar
+  /// (twisted) quads exactly.
+  bool intersect(const Ray& ray_world, float t_min, float t_max, PatchHit& hit) const;
+
+  Imath::V3f position_world(float s, float t) const;
+  Imath::V2f uv(float s, float t) const;
+  /// The point of the texture's top face that (s, t) maps to: x, y in mm
+  /// (not wrapped into the repeat, so neighbouring quads agree), z = thickness_mm.
+  Imath::V3f texture_point(float s, float t) const;
+  /// The local frame at (s, t).
+  SurfaceFrame frame(float s, float t) const;
+  /// Inverse of position_world for a point on the patch: its (s, t), by Newton
+  /// iteration from the centre. False if it does not converge inside [0,1]^2.
+  bool parameters_of(const Imath::V3f& p_world, float& s, float& t) const;
+
+  /// World-space bounding box of the patch (the convex hull of its corners).
+  Imath::V3f bounds_min_world() const { return m_min; }
+  Imath::V3f bounds_max_world() const { return m_max; }
+  const Imath::V3f& corner_world(int i) const { return m_p[i]; }
+
+ private:
+  Imath::V3f m_p[4];   // corners, world
+  Imath::V2f m_uv[4];  // corner UVs
+  Imath::V3f m_min, m_max;
+  float m_repeats_per_uv = 1.0f;
+  Imath::V2f m_repeat_mm{1.0f, 1.0f};
+  float m_thickness_mm = 1.0f, m_thickness_world = 1.0f;
+  bool m_valid = false;
+};
+
+}  // namespace clothbake

@@ -1,0 +1,57 @@
+#pragma once
+/// Everything a render needs, filled by the I/O layer (docs/scene-format.md).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/cloth_spec.h"
+#include "core/fiber_model.h"
+#include "core/light.h"
+#include "core/quad_mesh.h"
+
+namespace clothbake {
+
+/// How light reaching a march sample is attenuated by the cloth.
+enum class TransmittanceMode {
+  ShadowMarch,  ///< the paper's step 3a: march from every sample toward every light
+  Cached        ///< per quad and light, once over the cells, then looked up (PAPER.md s.5)
+};
+
+/// What a sample scatters.
+enum class ShadingMode {
+  Fiber,      ///< the fibre reflection model with the cell's coefficients (the paper)
+  Isotropic   ///< albedo x isotropic phase 1/(4 pi): for analytic checks (testscenes/slab)
+};
+
+struct RenderSettings {
+  int spp = 4;                 ///< samples per pixel (jittered, stratified)
+  float step_cells = 0.5f;     ///< march step as a fraction of the smallest cell edge
+  FiberModelKind fiber_model = FiberModelKind::Table;
+  int fiber_samples = 64;      ///< ellipsoid samples (direct model and table entries)
+  TransmittanceMode transmittance = TransmittanceMode::Cached;
+  ShadingMode shading = ShadingMode::Fiber;
+  float cutoff = 1e-3f;        ///< stop the view march when transmittance falls below this
+  uint64_t seed = 1;
+};
+
+struct ClothObject {
+  std::string name;
+  QuadMesh mesh;
+  ClothSpec cloth;
+  float repeats_per_uv = 40.0f;     ///< weave repeats per unit of UV, in u and in v
+  float thickness_world = 0.01f;    ///< depth of the volume below the surface, world units
+  float extinction_per_mm = 40.0f;  ///< sigma: extinction of fibre at rho = 1, per mm of texture path
+  Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};  ///< used in ShadingMode::Isotropic only
+};
+
+struct Scene {
+  PinholeCamera camera;
+  std::vector<Light> lights;
+  std::vector<ClothObject> objects;
+  Imath::V3f background{0.0f, 0.0f, 0.0f};  ///< linear RGB seen where no cloth is (alpha 0)
+  RenderSettings settings;
+};
+
+}  // namespace clothbake

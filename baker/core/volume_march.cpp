@@ -1,0 +1,75 @@
+#include "core/volume_march.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/cell_walk.h"
+#include "core/random.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+constexpr float k_inv_4pi = 0.25f / std::numbers::pi_v<float>;
+}  // namespace
+
+MarchResult march_view_ray(const MarchInput& in) {
+  MarchResult out;
+  const VolumeTexture& volume = *in.volume;
+  float t_sample = in.jitter * in.step_mm;
+  float transmittance = 1.0f;
+  V3f radiance(0.0f);
+  int shaded = 0;
+
+  // Step 2 of the paper: the cells along the view ray, by DDA. Step 3: equally
+  // spaced samples; empty cells are crossed without shading.
+  walk_cells(volume, in.entry_texture, in.dir_texture, in.length_mm,
+             [&](const Cell& cell, float, float t1) {
+               if (cell.density <= 0.0f) {
+                 if (t_sample < t1) t_sample += std::ceil((t1 - t_sample) / in.step_mm) * in.step_mm;
+                 return true;
+               }
+               const float alpha = 1.0f - std::exp(-in.extinction_per_mm * cell.density * in.step_mm);
+               const V3f tangent_local =
+                   V3f(cell.tangent.x / in.mm_per_world.x, cell.tangent.y / in.mm_per_world.y,
+                       cell.tangent.z / in.mm_per_world.z)
+                       .normalized();
+               for (; t_sample < t1; t_sample += in.step_mm) {
+                 const V3f p_texture = in.entry_texture + in.dir_texture * t_sample;
+                 // Step 3a: light reaching the sample from each light.
+                 V3f scattered(0.0f);
+                 for (const MarchLight& light : in.lights) {
+                   const float t_light =
+                       light.cache ? light.cache->lookup(p_texture)
+                                   : shadow_transmittance(volume, p_texture, light.to_light_texture,
+                                                          in.extinction_per_mm);
+                   if (t_light <= 0.0f) continue;
+                   const V3f e = light.irradiance * t_light;
+                   if (in.shading == ShadingMode::Isotropic) {
+                     scattered += e * in.isotropic_albedo * k_inv_4pi;
+                   } else {
+                     const FiberResponse f =
+                         in.shader->eval(tangent_local, light.to_light_local, in.to_eye_local,
+                                         hash_key(in.seed, uint64_t(shaded)));
+                     scattered += e * (cell.diffuse * f.diffuse + V3f(cell.specular * f.specular));
+                   }
+                 }
+                 // Step 3b: weighted by the transmittance up to the sample.
+                 radiance += scattered * (transmittance * alpha);
+                 transmittance *= 1.0f - alpha;
+                 ++shaded;
+                 // Step 3c: stop when nothing more can be seen.
+                 if (transmittance < in.cutoff) {
+                   transmittance = 0.0f;
+                   return false;
+                 }
+               }
+               return true;
+             });
+  out.radiance = radiance;
+  out.transmittance = transmittance;
+  out.samples = shaded;
+  return out;
+}
+
+}  // namespace clothbake

@@ -1,0 +1,336 @@
+#include "io/scene_json.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <initializer_list>
+#include <utility>
+
+#include <Imath/ImathVec.h>
+
+#include "core/error.h"
+#include "io/cloth_spec_json.h"
+#include "io/json_reader.h"
+#include "io/obj_reader.h"
+
+namespace clothbake::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Imath::V3d;
+using Imath::V3f;
+
+constexpr int kMaxResolution = 16384;
+constexpr int kMaxSamples = 65536;
+
+std::string type_name(const nlohmann::json& v) {
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_null()) return "null";
+  if (v.is_array()) return "an array of " + std::to_string(v.size());
+  return "an object";
+}
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+std::string fmt(const V3f& v) { return "[" + fmt(v.x) + ", " + fmt(v.y) + ", " + fmt(v.z) + "]"; }
+
+V3d to_double(const V3f& v) { return V3d(v.x, v.y, v.z); }
+
+fs::path relative_to(const std::string& scene_path, const std::string& rel) {
+  const fs::path p(rel);
+  return p.is_absolute() ? p : fs::path(scene_path).parent_path() / p;
+}
+
+/// Maps the string at `key` onto an enum value, listing the allowed names on error.
+template <class E>
+void read_enum(const JsonObject& j, const char* key,
+               std::initializer_list<std::pair<const char*, E>> values, E& out) {
+  if (!j.has(key)) return;
+  std::string s;
+  j.read(key, s);
+  std::string list;
+  for (const auto& [name, value] : values) {
+    if (s == name) {
+      out = value;
+      return;
+    }
+    list += std::string(list.empty() ? "" : ", ") + name;
+  }
+  j.fail(j.field(key), "unknown value '" + s + "'; expected one of: " + list);
+}
+
+void require_non_negative(const JsonObject& j, const char* key, const V3f& v) {
+  if (v.x < 0.0f || v.y < 0.0f || v.z < 0.0f)
+    j.fail(j.field(key), "must be >= 0 in every channel, got " + fmt(v));
+}
+
+void read_resolution(const JsonObject& j, int& width, int& height) {
+  const nlohmann::json& v = j.raw("resolution");
+  const std::string field = j.field("resolution");
+  if (!v.is_array() || v.size() != 2)
+    j.fail(field, "expected [width, height] in pixels, got " + type_name(v));
+  int* out[2] = {&width, &height};
+  for (int c = 0; c < 2; ++c) {
+    const std::string element = field + "[" + std::to_string(c) + "]";
+    if (!v[c].is_number_integer())
+      j.fail(element, "expected an integer, got " + type_name(v[c]) +
+                          (v[c].is_number() ? " with a fraction" : ""));
+    const bool in_range = v[c].is_number_unsigned() ? v[c].get<uint64_t>() <= kMaxResolution
+                                                    : v[c].get<int64_t>() <= kMaxResolution;
+    const int64_t x = v[c].get<int64_t>();
+    if (!in_range || x < 1)
+      j.fail(element, "must be in [1, " + std::to_string(kMaxResolution) + "] pixels, got " +
+                          v[c].dump());
+    *out[c] = static_cast<int>(x);
+  }
+}
+
+PinholeCamera read_camera(const JsonObject& j) {
+  j.allow_only({"position", "look_at", "up", "fov_deg", "fov_axis", "resolution"});
+  PinholeCamera camera;
+  j.read("position", camera.position_world);
+  j.read("look_at", camera.look_at_world);
+  j.read("up", camera.up_world);
+  j.read("fov_deg", camera.fov_deg);
+  read_enum(j, "fov_axis", {{"horizontal", FovAxis::Horizontal}, {"vertical", FovAxis::Vertical}},
+            camera.fov_axis);
+  if (j.has("resolution")) read_resolution(j, camera.width, camera.height);
+
+  if (!(camera.fov_deg > 0.0f && camera.fov_deg < 180.0f))
+    j.fail(j.field("fov_deg"), "must be in (0, 180) degrees, got " + fmt(camera.fov_deg));
+  const V3d view = to_double(camera.look_at_world) - to_double(camera.position_world);
+  if (view.length() == 0.0)
+    j.fail(j.field("look_at"),
+           "equals camera.position " + fmt(camera.position_world) +
+               "; the camera needs a direction to look in");
+  const V3d up = to_double(camera.up_world);
+  if (up.length() == 0.0) j.fail(j.field("up"), "must not be the zero vector");
+  if (view.normalized().cross(up.normalized()).length() < 1e-6)
+    j.fail(j.field("up"), "is parallel to the view direction (look_at - position); choose an "
+                          "up vector across the view");
+  return camera;
+}
+
+Light read_light(const JsonObject& j) {
+  if (!j.has("type")) j.fail(j.field("type"), "missing; expected one of: directional, point");
+  std::string type;
+  j.read("type", type);
+  Light light;
+  if (type == "directional") {
+    j.allow_only({"type", "direction", "color", "intensity"});
+    light.type = LightType::Directional;
+    if (!j.has("direction"))
+      j.fail(j.field("direction"), "missing (the direction the light travels, into the scene)");
+    V3f direction;
+    j.read("direction", direction);
+    const V3d d = to_double(direction);
+    const double length = d.length();
+    if (!(length > 0.0))
+      j.fail(j.field("direction"), "must not be the zero vector (it is the direction the light "
+                                   "travels)");
+    const V3d to_light = -d / length;
+    light.to_light_world = V3f(float(to_light.x), float(to_light.y), float(to_light.z));
+  } else if (type == "point") {
+    j.allow_only({"type", "position", "color", "intensity"});
+    light.type = LightType::Point;
+    if (!j.has("position")) j.fail(j.field("position"), "missing (where the point light is)");
+    j.read("position", light.position_world);
+  } else {
+    j.fail(j.field("type"), "unknown light type '" + type + "'; expected one of: directional, point");
+  }
+  j.read("color", light.color);
+  j.read("intensity", light.intensity);
+  require_non_negative(j, "color", light.color);
+  if (light.intensity < 0.0f)
+    j.fail(j.field("intensity"), "must be >= 0, got " + fmt(light.intensity));
+  return light;
+}
+
+RenderSettings read_render(const JsonObject& j) {
+  j.allow_only({"spp", "step_cells", "fiber_model", "fiber_samples", "transmittance", "shading",
+                "cutoff", "seed"});
+  RenderSettings s;
+  j.read("spp", s.spp);
+  j.read("step_cells", s.step_cells);
+  read_enum(j, "fiber_model",
+            {{"ellipsoid", FiberModelKind::Ellipsoid},
+             {"table", FiberModelKind::Table},
+             {"kajiya-kay", FiberModelKind::KajiyaKay}},
+            s.fiber_model);
+  j.read("fiber_samples", s.fiber_samples);
+  read_enum(j, "transmittance",
+            {{"shadow-march", TransmittanceMode::ShadowMarch}, {"cached", TransmittanceMode::Cached}},
+            s.transmittance);
+  read_enum(j, "shading", {{"fiber", ShadingMode::Fiber}, {"isotropic", ShadingMode::Isotropic}},
+            s.shading);
+  j.read("cutoff", s.cutoff);
+  j.read("seed", s.seed);
+
+  const std::string max_samples = std::to_string(kMaxSamples);
+  if (s.spp < 1 || s.spp > kMaxSamples)
+    j.fail(j.field("spp"), "must be in [1, " + max_samples + "], got " + std::to_string(s.spp));
+  if (!(s.step_cells > 0.0f && s.step_cells <= 16.0f))
+    j.fail(j.field("step_cells"), "must be in (0, 16] cells, got " + fmt(s.step_cells));
+  if (s.fiber_samples < 1 || s.fiber_samples > kMaxSamples)
+    j.fail(j.field("fiber_samples"),
+           "must be in [1, " + max_samples + "], got " + std::to_string(s.fiber_samples));
+  if (!(s.cutoff >= 0.0f && s.cutoff < 1.0f))
+    j.fail(j.field("cutoff"), "must be in [0, 1), got " + fmt(s.cutoff));
+  return s;
+}
+
+ClothObject read_object(const JsonObject& j, const std::string& default_name) {
+  j.allow_only({"name", "mesh", "cloth", "repeats_per_uv", "thickness_world", "extinction_per_mm",
+                "isotropic_albedo"});
+  ClothObject object;
+  object.name = default_name;
+  j.read("name", object.name);
+  j.read("repeats_per_uv", object.repeats_per_uv);
+  j.read("thickness_world", object.thickness_world);
+  j.read("extinction_per_mm", object.extinction_per_mm);
+  j.read("isotropic_albedo", object.isotropic_albedo);
+  if (!(object.repeats_per_uv > 0.0f))
+    j.fail(j.field("repeats_per_uv"), "must be greater than 0, got " + fmt(object.repeats_per_uv));
+  if (!(object.thickness_world > 0.0f))
+    j.fail(j.field("thickness_world"),
+           "must be greater than 0, got " + fmt(object.thickness_world));
+  if (!(object.extinction_per_mm >= 0.0f))
+    j.fail(j.field("extinction_per_mm"), "must be >= 0, got " + fmt(object.extinction_per_mm));
+  const V3f& a = object.isotropic_albedo;
+  if (a.x < 0.0f || a.y < 0.0f || a.z < 0.0f || a.x > 1.0f || a.y > 1.0f || a.z > 1.0f)
+    j.fail(j.field("isotropic_albedo"), "must be in [0, 1] in every channel, got " + fmt(a));
+
+  // The cloth spec: inline, or a file (whose own errors keep its name).
+  if (!j.has("cloth"))
+    j.fail(j.field("cloth"), "missing (an inline cloth spec or the path of a cloth spec file)");
+  const nlohmann::json& cloth = j.raw("cloth");
+  if (cloth.is_object()) {
+    object.cloth = cloth_spec_from_json(JsonObject(cloth, j.field("cloth"), j.file()));
+  } else if (cloth.is_string()) {
+    const fs::path cloth_path = relative_to(j.file(), cloth.get<std::string>());
+    try {
+      object.cloth = load_cloth_spec(cloth_path.string());
+    } catch (const InputError& e) {
+      j.fail(j.field("cloth"), e.what());
+    }
+  } else {
+    j.fail(j.field("cloth"),
+           "expected a cloth spec object or the path of a cloth spec file, got " + type_name(cloth));
+  }
+
+  // The mesh.
+  if (!j.has("mesh"))
+    j.fail(j.field("mesh"), "missing (the path of an OBJ quad mesh, relative to the scene file)");
+  std::string mesh_rel;
+  j.read("mesh", mesh_rel);
+  if (mesh_rel.empty()) j.fail(j.field("mesh"), "is empty; expected the path of an OBJ file");
+  const fs::path mesh_path = relative_to(j.file(), mesh_rel);
+  std::error_code ec;
+  if (!fs::exists(mesh_path, ec))
+    j.fail(j.field("mesh"), "mesh file not found: " + mesh_path.string());
+  try {
+    object.mesh = read_obj_quads(mesh_path.string());
+  } catch (const InputError& e) {
+    j.fail(j.field("mesh"), e.what());
+  }
+  return object;
+}
+
+/// Closest point to `p` on the triangle (a, b, c): Ericson, "Real-Time
+/// Collision Detection", s.5.1.5, by Voronoi regions.
+V3d closest_on_triangle(const V3d& p, const V3d& a, const V3d& b, const V3d& c) {
+  const V3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const V3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  const V3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// The volume of a quad lies behind its front face, down to thickness_world.
+/// A camera there would start its rays inside the cloth, which the renderer
+/// does not model; each quad's bilinear patch is approximated by the
+/// triangles (p0, p1, p2) and (p0, p2, p3).
+void check_camera_outside_cloth(const Scene& scene, const JsonObject& top) {
+  const V3d eye = to_double(scene.camera.position_world);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const ClothObject& object = scene.objects[i];
+    const double thickness = object.thickness_world;
+    for (const QuadMesh::Quad& quad : object.mesh.quads) {
+      V3d p[4];
+      for (int c = 0; c < 4; ++c) p[c] = to_double(object.mesh.positions_world[quad.position[c]]);
+      for (const auto& [b, c] : {std::pair{1, 2}, std::pair{2, 3}}) {
+        const V3d normal = (p[b] - p[0]).cross(p[c] - p[0]);
+        if (normal.length() == 0.0) continue;
+        const V3d offset = eye - closest_on_triangle(eye, p[0], p[b], p[c]);
+        const double distance = offset.length();
+        if (distance < thickness && offset.dot(normal) <= 0.0)
+          top.fail("camera", "position is inside the cloth volume of objects[" + std::to_string(i) +
+                                 "] (distance " + fmt(distance) + " < thickness_world " +
+                                 fmt(thickness) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path) {
+  const nlohmann::json doc = read_json_file(path);
+  const JsonObject top(doc, "", path);
+  top.allow_only({"name", "description", "camera", "lights", "objects", "background", "render"});
+  Scene scene;
+  std::string text;
+  top.read("name", text);
+  top.read("description", text);
+
+  // Step 1: the cheap parts, so their errors come before any mesh is read.
+  scene.camera = read_camera(top.object("camera"));
+
+  if (!top.has("lights")) top.fail("lights", "missing; give at least one light");
+  const nlohmann::json& lights = top.raw("lights");
+  if (!lights.is_array() || lights.empty())
+    top.fail("lights", "expected a non-empty array of lights, got " + type_name(lights));
+  for (size_t i = 0; i < lights.size(); ++i)
+    scene.lights.push_back(
+        read_light(JsonObject(lights[i], "lights[" + std::to_string(i) + "]", path)));
+
+  top.read("background", scene.background);
+  require_non_negative(top, "background", scene.background);
+  if (top.has("render")) scene.settings = read_render(top.object("render"));
+
+  // Step 2: the cloth objects, with their cloth specs and meshes.
+  if (!top.has("objects")) top.fail("objects", "missing; give at least one cloth object");
+  const nlohmann::json& objects = top.raw("objects");
+  if (!objects.is_array() || objects.empty())
+    top.fail("objects", "expected a non-empty array of cloth objects, got " + type_name(objects));
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const std::string field = "objects[" + std::to_string(i) + "]";
+    scene.objects.push_back(read_object(JsonObject(objects[i], field, path), field));
+  }
+
+  // Step 3: checks across parts.
+  check_camera_outside_cloth(scene, top);
+  return scene;
+}
+
+}  // namespace clothbake::io

@@ -1,0 +1,22 @@
+#pragma once
+/// Reads a render scene from JSON (format: docs/scene-format.md): camera,
+/// lights, cloth objects (an OBJ quad mesh plus a cloth spec each),
+/// background and render settings.
+
+#include <string>
+
+#include "core/scene.h"
+
+namespace clothbake::io {
+
+/// Loads the scene file `path`. Relative mesh and cloth-spec paths are
+/// relative to the scene file's folder. Absent keys keep the defaults of
+/// core/scene.h; unknown keys, wrong types, non-finite numbers and values out
+/// of range are refused. Throws InputError whose file is the scene and whose
+/// field is the full path ("objects[1].thickness_world"); errors inside a
+/// referenced OBJ or cloth-spec file keep that file's own name and line or
+/// field in the message. Also refuses a camera inside a cloth volume (within
+/// thickness_world behind a quad's surface).
+Scene load_scene(const std::string& path);
+
+}  // namespace clothbake::io
