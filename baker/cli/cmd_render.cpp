@@ -51,7 +51,7 @@ void run_render(const RenderArgs& args) {
   const Image image = renderer->render([&](double f) { bar.update(f); });
   bar.finish();
   io::write_exr(args.out_exr, image);
-  if (!args.out_png.empty()) io::write_png(args.out_png, image, /*linear=*/true);
+  if (!args.out_png.empty()) io::write_png(args.out_png, image.rgb(), /*linear=*/true);
   const RenderStats& st = renderer->stats();
   if (args.stats_json) {
     const nlohmann::json j = {{"scene", args.scene},

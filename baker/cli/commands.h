@@ -11,5 +11,6 @@ namespace clothbake::cli {
 void register_volume_command(CLI::App& app);
 void register_fiber_command(CLI::App& app);
 void register_render_command(CLI::App& app);
+void register_compare_command(CLI::App& app);
 
 }  // namespace clothbake::cli

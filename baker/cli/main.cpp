@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   clothbake::cli::register_volume_command(app);
   clothbake::cli::register_fiber_command(app);
   clothbake::cli::register_render_command(app);
+  clothbake::cli::register_compare_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -28,15 +28,15 @@ CameraBasis basis_of(const PinholeCamera& cam) {
   CameraBasis basis;
   basis.forward = to_d(cam.look_at_world) - to_d(cam.position_world);
   const double forward_len = basis.forward.length();
-  basis.forward = forward_len > 0.0 && std::isfinite(forward_len) ? basis.forward / forward_len
-                                                                  : V3d(0, 0, -1);
+  basis.forward =
+      forward_len > 0.0 && std::isfinite(forward_len) ? basis.forward / forward_len : V3d(0, 0, -1);
   // right = forward x up; fall back to the world axis least aligned with forward.
   V3d right = basis.forward.cross(to_d(cam.up_world));
   if (!(right.length() > 1e-6 * to_d(cam.up_world).length())) {
     const V3d f = basis.forward;
     const V3d axis = std::abs(f.x) <= std::abs(f.y) && std::abs(f.x) <= std::abs(f.z) ? V3d(1, 0, 0)
-                     : std::abs(f.y) <= std::abs(f.z)                               ? V3d(0, 1, 0)
-                                                                                    : V3d(0, 0, 1);
+                     : std::abs(f.y) <= std::abs(f.z)                                 ? V3d(0, 1, 0)
+                                                      : V3d(0, 0, 1);
     right = f.cross(axis);
   }
   basis.right = right.normalized();

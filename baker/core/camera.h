@@ -1,7 +1,10 @@
 #pragma once
 /// Pinhole camera. Pixel (0, 0) is the top-left corner of the image; pixel
 /// centres are at half-integers. The field of view is the full angle across
-/// the image along `fov_axis`.
+/// the image along `fov_axis`. The scene reader rejects degenerate cameras;
+/// should one reach here anyway, nothing becomes NaN: look_at == position looks
+/// down -z, an up vector that is zero or parallel to the view is replaced by
+/// the world axis least aligned with it, fov is clamped into (0, 180).
 
 #include <Imath/ImathVec.h>
 

@@ -12,7 +12,8 @@ namespace clothbake {
 
 void Light::illuminate(const Imath::V3f& p_world, Imath::V3f& to_light,
                        Imath::V3f& irradiance) const {
-  const Imath::V3f offset = type == LightType::Directional ? to_light_world : position_world - p_world;
+  const Imath::V3f offset =
+      type == LightType::Directional ? to_light_world : position_world - p_world;
   const float dist2 = offset.length2();
   if (!(dist2 > 0.0f) || !std::isfinite(dist2)) {
     to_light = Imath::V3f(0, 0, 1);

@@ -15,7 +15,8 @@ struct Light {
   float intensity = 1.0f;  ///< directional: irradiance on a surface facing it; point: intensity (irradiance at 1 world unit)
 
   /// Unit direction toward the light from p_world and the irradiance arriving
-  /// there (before any transmittance through the cloth).
+  /// there (before any transmittance through the cloth). A point light at
+  /// zero distance, or a zero direction, gives zero irradiance (never NaN).
   void illuminate(const Imath::V3f& p_world, Imath::V3f& to_light, Imath::V3f& irradiance) const;
 };
 

@@ -97,10 +97,10 @@ QuadPatch::QuadPatch(const QuadMesh& mesh, int quad_index, float repeats_per_uv,
   }
   m_min = m_max = m_p[0];
   for (int i = 1; i < 4; ++i) {
-    m_min = V3f(std::min(m_min.x, m_p[i].x), std::min(m_min.y, m_p[i].y),
-                std::min(m_min.z, m_p[i].z));
-    m_max = V3f(std::max(m_max.x, m_p[i].x), std::max(m_max.y, m_p[i].y),
-                std::max(m_max.z, m_p[i].z));
+    m_min =
+        V3f(std::min(m_min.x, m_p[i].x), std::min(m_min.y, m_p[i].y), std::min(m_min.z, m_p[i].z));
+    m_max =
+        V3f(std::max(m_max.x, m_p[i].x), std::max(m_max.y, m_p[i].y), std::max(m_max.z, m_p[i].z));
   }
 
   // Map scales must be positive and finite.
@@ -150,13 +150,13 @@ QuadPatch::QuadPatch(const QuadMesh& mesh, int quad_index, float repeats_per_uv,
 }
 
 Imath::V3f QuadPatch::position_world(float s, float t) const {
-  return to_f(bilerp(
-      {to_d(m_p[0]), to_d(m_p[1]), to_d(m_p[2]), to_d(m_p[3])}, double(s), double(t)));
+  return to_f(
+      bilerp({to_d(m_p[0]), to_d(m_p[1]), to_d(m_p[2]), to_d(m_p[3])}, double(s), double(t)));
 }
 
 Imath::V2f QuadPatch::uv(float s, float t) const {
-  const V2d c[4] = {V2d(m_uv[0].x, m_uv[0].y), V2d(m_uv[1].x, m_uv[1].y),
-                    V2d(m_uv[2].x, m_uv[2].y), V2d(m_uv[3].x, m_uv[3].y)};
+  const V2d c[4] = {V2d(m_uv[0].x, m_uv[0].y), V2d(m_uv[1].x, m_uv[1].y), V2d(m_uv[2].x, m_uv[2].y),
+                    V2d(m_uv[3].x, m_uv[3].y)};
   const V2d r = bilerp(c, double(s), double(t));
   return Imath::V2f(float(r.x), float(r.y));
 }

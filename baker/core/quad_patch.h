@@ -17,8 +17,15 @@
 namespace clothbake {
 
 /// Orthonormal frame at a surface point plus the scale of the map m there.
+/// With dP/dx, dP/dy the world tangents per texture mm (the Jacobian of the
+/// patch times the inverse of the UV map's, texture x and y in mm):
+/// T = dP/dx projected into the tangent plane, mm_per_world = (1 / (dP/dx . T),
+/// 1 / (dP/dy . B), thickness_mm / thickness_world). Exact for rectangles with
+/// axis-aligned UVs; where the UV map shears, the orthonormal frame drops the
+/// shear (texture_from_world(dP/dx) is still (1, 0, 0), that of dP/dy is not
+/// exactly (0, 1, 0)).
 struct SurfaceFrame {
-  Imath::V3f tangent_world;    ///< T: unit, direction in which texture x grows (in the tangent plane)
+  Imath::V3f tangent_world;  ///< T: unit, direction in which texture x grows (in the tangent plane)
   Imath::V3f bitangent_world;  ///< B = N x T
   Imath::V3f normal_world;     ///< N: unit front normal, (dP/ds x dP/dt) direction
   /// Texture millimetres per world unit along T, B and N. The B entry is
@@ -41,7 +48,7 @@ struct SurfaceFrame {
 
 /// Where a ray meets a patch.
 struct PatchHit {
-  float t_world = 0.0f;  ///< ray parameter (world units along the unit direction)
+  float t_world = 0.0f;      ///< ray parameter (world units along the unit direction)
   float s = 0.0f, t = 0.0f;  ///< patch parameters in [0, 1]^2
   bool front_facing = true;  ///< the ray arrives from the side N points to
 };
@@ -52,14 +59,24 @@ class QuadPatch {
   /// Quad `quad_index` of `mesh`; `repeats_per_uv` weave repeats per UV unit;
   /// `repeat_mm` is the texture's repeat size (x, y) and `thickness_mm` its
   /// depth, which spans `thickness_world` in the scene. Degenerate quads (zero
-  /// area, or UVs of zero area) make valid() false.
+  /// area, or UVs of zero area) make valid() false. Precisely, valid() needs:
+  /// indices in range; four distinct, finite corners; positive, finite scales;
+  /// a normal dP/ds x dP/dt that neither vanishes nor flips anywhere on
+  /// [0,1]^2 (every corner normal has a component along the centre normal of
+  /// more than 1e-6 x size^2; this rejects collinear, folded and bow-tie
+  /// quads); and a UV Jacobian determinant of one sign, above 1e-6 x UV size^2,
+  /// everywhere (mirrored UVs are fine).
   QuadPatch(const QuadMesh& mesh, int quad_index, float repeats_per_uv, Imath::V2f repeat_mm,
             float thickness_mm, float thickness_world);
 
   bool valid() const { return m_valid; }
 
   /// Nearest intersection with t_world in (t_min, t_max). Handles non-planar
-  /// (twisted) quads exactly.
+  /// (twisted) quads exactly (Reshetov's ruling construction, Ray Tracing
+  /// Gems ch. 8, in double precision). Edges count as inside, with a 1e-7
+  /// parameter tolerance (then clamped), so a ray through a shared edge hits
+  /// both neighbours. Rays parallel to a planar quad, and invalid patches, miss.
+  /// t_world is in units of |direction| (world units for a unit direction).
   bool intersect(const Ray& ray_world, float t_min, float t_max, PatchHit& hit) const;
 
   Imath::V3f position_world(float s, float t) const;
@@ -67,10 +84,12 @@ class QuadPatch {
   /// The point of the texture's top face that (s, t) maps to: x, y in mm
   /// (not wrapped into the repeat, so neighbouring quads agree), z = thickness_mm.
   Imath::V3f texture_point(float s, float t) const;
-  /// The local frame at (s, t).
+  /// The local frame at (s, t). Requires valid().
   SurfaceFrame frame(float s, float t) const;
   /// Inverse of position_world for a point on the patch: its (s, t), by Newton
   /// iteration from the centre. False if it does not converge inside [0,1]^2.
+  /// Gauss-Newton on |P(s, t) - p|^2, so a point off the surface gets the
+  /// parameters of its nearest patch point (a local minimum).
   bool parameters_of(const Imath::V3f& p_world, float& s, float& t) const;
 
   /// World-space bounding box of the patch (the convex hull of its corners).

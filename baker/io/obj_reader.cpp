@@ -180,9 +180,8 @@ QuadMesh read_obj_quads(const std::string& path) {
                                      std::to_string(n_pos) + " vertices)");
       if (!resolve(rc.uv, counts_at_face[f].second, n_uv, quad.uv[c]))
         parser.fail(raw[f].line, "texture coordinate index " + std::to_string(rc.uv) +
-                                     " of corner " + std::to_string(c + 1) +
-                                     " is out of range (" + std::to_string(n_uv) +
-                                     " texture coordinates)");
+                                     " of corner " + std::to_string(c + 1) + " is out of range (" +
+                                     std::to_string(n_uv) + " texture coordinates)");
     }
     mesh.quads.push_back(quad);
   }

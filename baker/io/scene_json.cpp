@@ -86,8 +86,8 @@ void read_resolution(const JsonObject& j, int& width, int& height) {
                                                     : v[c].get<int64_t>() <= kMaxResolution;
     const int64_t x = v[c].get<int64_t>();
     if (!in_range || x < 1)
-      j.fail(element, "must be in [1, " + std::to_string(kMaxResolution) + "] pixels, got " +
-                          v[c].dump());
+      j.fail(element,
+             "must be in [1, " + std::to_string(kMaxResolution) + "] pixels, got " + v[c].dump());
     *out[c] = static_cast<int>(x);
   }
 }
@@ -107,14 +107,14 @@ PinholeCamera read_camera(const JsonObject& j) {
     j.fail(j.field("fov_deg"), "must be in (0, 180) degrees, got " + fmt(camera.fov_deg));
   const V3d view = to_double(camera.look_at_world) - to_double(camera.position_world);
   if (view.length() == 0.0)
-    j.fail(j.field("look_at"),
-           "equals camera.position " + fmt(camera.position_world) +
-               "; the camera needs a direction to look in");
+    j.fail(j.field("look_at"), "equals camera.position " + fmt(camera.position_world) +
+                                   "; the camera needs a direction to look in");
   const V3d up = to_double(camera.up_world);
   if (up.length() == 0.0) j.fail(j.field("up"), "must not be the zero vector");
   if (view.normalized().cross(up.normalized()).length() < 1e-6)
-    j.fail(j.field("up"), "is parallel to the view direction (look_at - position); choose an "
-                          "up vector across the view");
+    j.fail(j.field("up"),
+           "is parallel to the view direction (look_at - position); choose an "
+           "up vector across the view");
   return camera;
 }
 
@@ -133,8 +133,9 @@ Light read_light(const JsonObject& j) {
     const V3d d = to_double(direction);
     const double length = d.length();
     if (!(length > 0.0))
-      j.fail(j.field("direction"), "must not be the zero vector (it is the direction the light "
-                                   "travels)");
+      j.fail(j.field("direction"),
+             "must not be the zero vector (it is the direction the light "
+             "travels)");
     const V3d to_light = -d / length;
     light.to_light_world = V3f(float(to_light.x), float(to_light.y), float(to_light.z));
   } else if (type == "point") {
@@ -143,7 +144,8 @@ Light read_light(const JsonObject& j) {
     if (!j.has("position")) j.fail(j.field("position"), "missing (where the point light is)");
     j.read("position", light.position_world);
   } else {
-    j.fail(j.field("type"), "unknown light type '" + type + "'; expected one of: directional, point");
+    j.fail(j.field("type"),
+           "unknown light type '" + type + "'; expected one of: directional, point");
   }
   j.read("color", light.color);
   j.read("intensity", light.intensity);
@@ -165,9 +167,10 @@ RenderSettings read_render(const JsonObject& j) {
              {"kajiya-kay", FiberModelKind::KajiyaKay}},
             s.fiber_model);
   j.read("fiber_samples", s.fiber_samples);
-  read_enum(j, "transmittance",
-            {{"shadow-march", TransmittanceMode::ShadowMarch}, {"cached", TransmittanceMode::Cached}},
-            s.transmittance);
+  read_enum(
+      j, "transmittance",
+      {{"shadow-march", TransmittanceMode::ShadowMarch}, {"cached", TransmittanceMode::Cached}},
+      s.transmittance);
   read_enum(j, "shading", {{"fiber", ShadingMode::Fiber}, {"isotropic", ShadingMode::Isotropic}},
             s.shading);
   j.read("cutoff", s.cutoff);
@@ -221,8 +224,8 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
       j.fail(j.field("cloth"), e.what());
     }
   } else {
-    j.fail(j.field("cloth"),
-           "expected a cloth spec object or the path of a cloth spec file, got " + type_name(cloth));
+    j.fail(j.field("cloth"), "expected a cloth spec object or the path of a cloth spec file, got " +
+                                 type_name(cloth));
   }
 
   // The mesh.

@@ -53,15 +53,13 @@ TEST(Camera, FieldOfViewSpansTheStatedAxis) {
     const PinholeCamera cam = oblique_camera(axis);
     const float w = float(cam.width), h = float(cam.height);
     const double fov = cam.fov_deg * kDeg;
-    const double across_width =
-        angle_between(cam.generate_ray(0, 0.5f * h).direction_world,
-                      cam.generate_ray(w, 0.5f * h).direction_world);
-    const double across_height =
-        angle_between(cam.generate_ray(0.5f * w, 0).direction_world,
-                      cam.generate_ray(0.5f * w, h).direction_world);
+    const double across_width = angle_between(cam.generate_ray(0, 0.5f * h).direction_world,
+                                              cam.generate_ray(w, 0.5f * h).direction_world);
+    const double across_height = angle_between(cam.generate_ray(0.5f * w, 0).direction_world,
+                                               cam.generate_ray(0.5f * w, h).direction_world);
     // Square pixels: one focal length for both axes.
-    const double focal = axis == FovAxis::Horizontal ? 0.5 * w / std::tan(0.5 * fov)
-                                                     : 0.5 * h / std::tan(0.5 * fov);
+    const double focal =
+        axis == FovAxis::Horizontal ? 0.5 * w / std::tan(0.5 * fov) : 0.5 * h / std::tan(0.5 * fov);
     EXPECT_NEAR(across_width, 2.0 * std::atan(0.5 * w / focal), 1e-5);
     EXPECT_NEAR(across_height, 2.0 * std::atan(0.5 * h / focal), 1e-5);
     EXPECT_NEAR(axis == FovAxis::Horizontal ? across_width : across_height, fov, 1e-5);
@@ -107,8 +105,8 @@ TEST(Camera, ImageYGrowsDownwardAndXToTheRight) {
 TEST(Camera, PointsBehindDoNotProject) {
   PinholeCamera cam;
   float x = -7, y = -7;
-  EXPECT_FALSE(cam.project(V3f(0, 0, 6), x, y));       // behind
-  EXPECT_FALSE(cam.project(V3f(1, 0.5f, 5), x, y));    // on the camera plane
+  EXPECT_FALSE(cam.project(V3f(0, 0, 6), x, y));        // behind
+  EXPECT_FALSE(cam.project(V3f(1, 0.5f, 5), x, y));     // on the camera plane
   EXPECT_FALSE(cam.project(cam.position_world, x, y));  // the eye itself
   EXPECT_EQ(x, -7);
   EXPECT_EQ(y, -7);
@@ -122,8 +120,8 @@ TEST(Camera, DegenerateSetupsStayFinite) {
   PinholeCamera zero_up;
   zero_up.up_world = V3f(0, 0, 0);
   for (const PinholeCamera& cam : {same, parallel_up, zero_up}) {
-    for (const auto& [x, y] : {std::pair{0.0f, 0.0f}, std::pair{213.0f, 133.0f},
-                               std::pair{426.0f, 266.0f}}) {
+    for (const auto& [x, y] :
+         {std::pair{0.0f, 0.0f}, std::pair{213.0f, 133.0f}, std::pair{426.0f, 266.0f}}) {
       const V3f d = cam.generate_ray(x, y).direction_world;
       EXPECT_TRUE(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z));
       EXPECT_NEAR(d.length(), 1.0f, 1e-6);

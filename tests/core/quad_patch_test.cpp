@@ -29,7 +29,8 @@ constexpr float kThicknessWorld = 0.05f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 /// A one-quad mesh with the given corners and UVs, as a patch.
-QuadPatch make_patch(const V3f (&p)[4], const V2f (&uv)[4], float thickness_world = kThicknessWorld) {
+QuadPatch make_patch(const V3f (&p)[4], const V2f (&uv)[4],
+                     float thickness_world = kThicknessWorld) {
   QuadMesh mesh;
   for (int i = 0; i < 4; ++i) {
     mesh.positions_world.push_back(p[i]);
@@ -123,8 +124,7 @@ TEST(QuadPatch, RectangleScalesMatchEdgeLengths) {
   const float length = 2.0f, width = 0.5f;
   const V3f o(1, 2, 3);
   const QuadPatch patch = make_patch(
-      {o, o + x_axis * length, o + x_axis * length + y_axis * width, o + y_axis * width},
-      kUnitUv);
+      {o, o + x_axis * length, o + x_axis * length + y_axis * width, o + y_axis * width}, kUnitUv);
   ASSERT_TRUE(patch.valid());
   for (float s : {0.0f, 0.3f, 1.0f}) {
     const SurfaceFrame f = patch.frame(s, 1.0f - s);
@@ -263,8 +263,8 @@ TEST(QuadPatch, TwistedNormalsMatchFiniteDifferences) {
 
 TEST(QuadPatch, MirroredUvsGiveNegativeBitangentScale) {
   const V2f mirrored[4] = {V2f(0, 1), V2f(1, 1), V2f(1, 0), V2f(0, 0)};  // v runs against t
-  const QuadPatch patch = make_patch(
-      {V3f(0, 0, 0), V3f(2, 0, 0), V3f(2, 1, 0), V3f(0, 1, 0)}, mirrored);
+  const QuadPatch patch =
+      make_patch({V3f(0, 0, 0), V3f(2, 0, 0), V3f(2, 1, 0), V3f(0, 1, 0)}, mirrored);
   ASSERT_TRUE(patch.valid());
   const SurfaceFrame f = patch.frame(0.4f, 0.7f);
   EXPECT_NEAR(f.mm_per_world.x, kRepeats * kRepeatMm.x / 2.0f, 1e-6);
@@ -306,9 +306,9 @@ TEST(QuadPatch, RaysThroughEdgesAndCornersHit) {
   const struct {
     V3f target;
     float s, t;
-  } cases[] = {{V3f(0.5f, 0, 0), 0.5f, 0}, {V3f(1, 0.25f, 0), 1, 0.25f},
+  } cases[] = {{V3f(0.5f, 0, 0), 0.5f, 0},   {V3f(1, 0.25f, 0), 1, 0.25f},
                {V3f(0.75f, 1, 0), 0.75f, 1}, {V3f(0, 0.5f, 0), 0, 0.5f},
-               {V3f(0, 0, 0), 0, 0},      {V3f(1, 1, 0), 1, 1}};
+               {V3f(0, 0, 0), 0, 0},         {V3f(1, 1, 0), 1, 1}};
   for (const auto& c : cases)
     for (const V3f& offset : {V3f(0, 0, 2), V3f(0.3f, -0.2f, 1.5f), V3f(-0.7f, 0.4f, -1)}) {
       const Ray ray{c.target + offset, -offset.normalized()};

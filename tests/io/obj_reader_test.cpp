@@ -20,10 +20,10 @@ constexpr const char* kQuad =
 class ObjReader : public ::testing::Test {
  protected:
   void SetUp() override {
-    m_dir = fs::temp_directory_path() /
-            ("clothbake_obj_test_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    m_dir =
+        fs::temp_directory_path() /
+        ("clothbake_obj_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(m_dir);
   }
   void TearDown() override { fs::remove_all(m_dir); }
@@ -58,11 +58,11 @@ TEST_F(ObjReader, ReadsAQuadWithUvs) {
 }
 
 TEST_F(ObjReader, AcceptsNormalsNegativeIndicesAndIgnoredStatements) {
-  const QuadMesh m = read_obj_quads(write(
-      "# exported\r\nmtllib cloth.mtl\r\no Cloth\r\n" + std::string(kQuad) +
-      "vn 0 0 1\r\ng part\r\nusemtl red\r\ns off\r\n"
-      "f 1/4/1 2/3/1 3/2/1 4/1/1   # a comment\r\n"
-      "f -4/-4 -3/-3 -2/-2 -1/-1\r\n"));
+  const QuadMesh m =
+      read_obj_quads(write("# exported\r\nmtllib cloth.mtl\r\no Cloth\r\n" + std::string(kQuad) +
+                           "vn 0 0 1\r\ng part\r\nusemtl red\r\ns off\r\n"
+                           "f 1/4/1 2/3/1 3/2/1 4/1/1   # a comment\r\n"
+                           "f -4/-4 -3/-3 -2/-2 -1/-1\r\n"));
   ASSERT_EQ(m.quads.size(), 2u);
   EXPECT_EQ(m.quads[0].uv, (std::array<int, 4>{3, 2, 1, 0}));
   EXPECT_EQ(m.quads[1].position, (std::array<int, 4>{0, 1, 2, 3}));
@@ -118,7 +118,7 @@ TEST_F(ObjReader, RefusesZeroAreaQuads) {
                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
                      "f 1/1 2/2 3/3 4/4\nf 1/1 2/2 2/3 1/4\n")
                 .substr(0, 30),
-            "line 10 | quad has zero area ");
+            "line 10 | quad has zero area (");
   // All four corners on one line.
   EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\n"
                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n")
