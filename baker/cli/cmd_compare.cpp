@@ -21,11 +21,19 @@ struct CompareArgs {
   double threshold = 0.0;
   double max_relative_rmse = -1.0;
   double min_psnr = -1.0;
+  int downsample = 1;
 };
 
 void run_compare(const CompareArgs& a) {
-  const Image ref = io::read_image(a.reference);
-  const Image tst = io::read_image(a.test);
+  Image ref = io::read_image(a.reference);
+  Image tst = io::read_image(a.test);
+  // Box-average full-size images by the factor; an image already that much
+  // smaller than the other (a stored small reference) is left as it is.
+  const int f = a.downsample;
+  if (f > 1) {
+    if (ref.width * f != tst.width) ref = io::downsample(ref, f);
+    if (tst.width != ref.width) tst = io::downsample(tst, f);
+  }
   io::ImageDiff d;
   try {
     d = io::compare_images(ref, tst, a.threshold);
@@ -67,6 +75,10 @@ void register_compare_command(CLI::App& app) {
   cmd->add_option("--max-relative-rmse", args->max_relative_rmse,
                   "exit 1 when the relative RMSE is above this");
   cmd->add_option("--min-psnr", args->min_psnr, "exit 1 when the PSNR (dB) is below this");
+  cmd->add_option("--downsample", args->downsample,
+                  "box-average by N x N pixels before comparing (an image already N times "
+                  "smaller is taken as is)")
+      ->check(CLI::Range(1, 64));
   cmd->callback([args] { run_compare(*args); });
 }
 

@@ -42,17 +42,27 @@ float walk_cells(const VolumeTexture& volume, const Imath::V3f& p_texture,
       t_next[a] = inf;
     }
   }
+  // Track x and y inside the repeat so each step wraps by a compare, not a
+  // division.
+  const int n[2] = {volume.nx(), volume.ny()};
+  for (int a = 0; a < 2; ++a) idx[a] = ((idx[a] % n[a]) + n[a]) % n[a];
   float t = 0.0f;
   while (t < t_max) {
     const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2)
                                          : (t_next[1] < t_next[2] ? 1 : 2);
     const float t_exit = std::min(t_next[a], t_max);
-    if (t_exit > t && !visit(volume.at(idx[0], idx[1], idx[2]), t, t_exit)) return t_exit;
+    if (t_exit > t && !visit(volume.at_wrapped(idx[0], idx[1], idx[2]), t, t_exit)) return t_exit;
     t = t_exit;
     if (t >= t_max) break;
     idx[a] += step[a];
     t_next[a] += t_delta[a];
-    if (idx[2] < 0 || idx[2] >= volume.nz()) break;
+    if (a == 2) {
+      if (idx[2] < 0 || idx[2] >= volume.nz()) break;
+    } else if (idx[a] == n[a]) {
+      idx[a] = 0;
+    } else if (idx[a] < 0) {
+      idx[a] = n[a] - 1;
+    }
   }
   return t;
 }

@@ -28,7 +28,13 @@ float optical_depth(const VolumeTexture& volume, const V3f& p, const V3f& d, flo
   return tau;
 }
 
-int wrap(int i, int n) { return ((i % n) + n) % n; }
+/// floor(g) wrapped into [0, n) and the fraction, for a grid coordinate g
+/// that may lie many repeats away: float arithmetic instead of two divisions.
+inline void wrap_floor(float g, int n, float inv_n, int& i, float& frac) {
+  const float gw = g - std::floor(g * inv_n) * float(n);
+  i = std::min(int(gw), n - 1);
+  frac = gw - float(i);
+}
 }  // namespace
 
 float shadow_transmittance(const VolumeTexture& volume, const V3f& p_texture,
@@ -54,7 +60,7 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
   };
   // Nearly horizontal light: layer-by-layer propagation would interpolate
   // over very long segments; march every cell exactly instead.
-  const bool grazing = std::fabs(to_light.z) < 0.05f;
+  const bool grazing = std::fabs(to_light.z) < 0.02f;
   if (grazing) {
     tbb::parallel_for(0, nz * ny, [&](int row) {
       const int k = row / ny, j = row % ny;
@@ -74,6 +80,12 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
   const int first = from_above ? nz - 1 : 0, dir = from_above ? -1 : 1;
   const float seg = cell.z / std::fabs(to_light.z);  // length between centre planes
   const V3f shift = to_light * seg;                   // offset to the previous plane
+  // Two sub-segments per layer crossed (one in each half-layer), more when
+  // the segment runs across several cells sideways.
+  const float across_cells =
+      std::max(std::fabs(shift.x) / cell.x, std::fabs(shift.y) / cell.y);
+  const int n_sub = std::max(2, int(std::ceil(2.0f * across_cells)));
+  const float inv_nx = 1.0f / float(nx), inv_ny = 1.0f / float(ny);
   for (int n = 0; n < nz; ++n) {
     const int k = first + dir * n;
     tbb::parallel_for(0, ny, [&](int j) {
@@ -85,22 +97,32 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
                                       sigma);
           continue;
         }
-        const float tau = optical_depth(volume, p, to_light, seg, sigma);
-        if (tau >= k_opaque_optical_depth) {
+        // Bilinear in the previous layer, periodic.
+        int xa, ya;
+        float fx, fy;
+        wrap_floor((p.x + shift.x) / cell.x - 0.5f, nx, inv_nx, xa, fx);
+        wrap_floor((p.y + shift.y) / cell.y - 0.5f, ny, inv_ny, ya, fy);
+        const int xb = xa + 1 == nx ? 0 : xa + 1, yb = ya + 1 == ny ? 0 : ya + 1;
+        const int kp = k - dir;
+        const float prev = (at(xa, ya, kp) * (1 - fx) + at(xb, ya, kp) * fx) * (1 - fy) +
+                           (at(xa, yb, kp) * (1 - fx) + at(xb, yb, kp) * fx) * fy;
+        if (prev >= k_opaque_optical_depth) {  // already dark: the segment cannot matter
           at(i, j, k) = k_opaque_optical_depth;
           continue;
         }
-        // Bilinear in the previous layer, periodic.
-        const float gx = (p.x + shift.x) / cell.x - 0.5f, gy = (p.y + shift.y) / cell.y - 0.5f;
-        const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy));
-        const float fx = gx - x0, fy = gy - y0;
-        const int kp = k - dir;
-        const float t00 = at(wrap(x0, nx), wrap(y0, ny), kp);
-        const float t10 = at(wrap(x0 + 1, nx), wrap(y0, ny), kp);
-        const float t01 = at(wrap(x0, nx), wrap(y0 + 1, ny), kp);
-        const float t11 = at(wrap(x0 + 1, nx), wrap(y0 + 1, ny), kp);
-        const float prev =
-            (t00 * (1 - fx) + t10 * fx) * (1 - fy) + (t01 * (1 - fx) + t11 * fx) * fy;
+        // The segment to the previous layer's centre plane, by the midpoint
+        // rule over sub-segments no longer than half a cell across.
+        float rho_sum = 0.0f;
+        for (int m = 0; m < n_sub; ++m) {
+          const V3f q = p + to_light * (seg * (m + 0.5f) / n_sub);
+          int qi, qj;
+          float unused;
+          wrap_floor(q.x / cell.x, nx, inv_nx, qi, unused);
+          wrap_floor(q.y / cell.y, ny, inv_ny, qj, unused);
+          const int qk = std::clamp(int(std::floor(q.z / cell.z)), 0, nz - 1);
+          rho_sum += volume.at_wrapped(qi, qj, qk).density;
+        }
+        const float tau = sigma * seg * rho_sum / n_sub;
         at(i, j, k) = std::min(k_opaque_optical_depth, tau + prev);
       }
     });
@@ -109,11 +131,12 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
 }
 
 float TransmittanceCache::lookup(const V3f& p) const {
-  const float gx = p.x / m_cell.x - 0.5f, gy = p.y / m_cell.y - 0.5f;
   float gz = p.z / m_cell.z - 0.5f;
-  const int x0 = int(std::floor(gx)), y0 = int(std::floor(gy));
-  const float fx = gx - x0, fy = gy - y0;
-  const int xa = wrap(x0, m_nx), xb = wrap(x0 + 1, m_nx), ya = wrap(y0, m_ny), yb = wrap(y0 + 1, m_ny);
+  int xa, ya;
+  float fx, fy;
+  wrap_floor(p.x / m_cell.x - 0.5f, m_nx, 1.0f / float(m_nx), xa, fx);
+  wrap_floor(p.y / m_cell.y - 0.5f, m_ny, 1.0f / float(m_ny), ya, fy);
+  const int xb = xa + 1 == m_nx ? 0 : xa + 1, yb = ya + 1 == m_ny ? 0 : ya + 1;
   auto tau = [&](int i, int j, int k) { return m_tau[(size_t(k) * m_ny + j) * m_nx + i]; };
   auto layer = [&](int k) {
     return (tau(xa, ya, k) * (1 - fx) + tau(xb, ya, k) * fx) * (1 - fy) +

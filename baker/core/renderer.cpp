@@ -189,8 +189,8 @@ TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const
     t_min = hit.t_world + world_after + 1e-5f * std::max(1.0f, hit.t_world);
     if (length_mm <= 0.0f) continue;
 
-    MarchLight lights[8];
-    const size_t n_lights = std::min<size_t>(m_scene.lights.size(), 8);
+    MarchLight lights[k_max_march_lights];
+    const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
     for (size_t l = 0; l < n_lights; ++l) {
       V3f to_light_world;
       m_scene.lights[l].illuminate(p_world, to_light_world, lights[l].irradiance);

@@ -18,6 +18,9 @@
 
 namespace clothbake {
 
+/// Lights one march handles (more are ignored; the scene reader refuses them).
+inline constexpr size_t k_max_march_lights = 8;
+
 /// One light as seen from the march's quad.
 struct MarchLight {
   Imath::V3f to_light_texture;  ///< unit, texture space: the shadow march direction

@@ -51,6 +51,10 @@ class VolumeTexture {
     int iw = ((i % m_nx) + m_nx) % m_nx, jw = ((j % m_ny) + m_ny) % m_ny;
     return (size_t(k) * m_ny + jw) * m_nx + iw;
   }
+  /// Cell at indices already inside the grid (0 <= i < nx, ...): no wrapping.
+  const Cell& at_wrapped(int i, int j, int k) const {
+    return m_cells[(size_t(k) * m_ny + j) * m_nx + i];
+  }
   const std::vector<Cell>& cells() const { return m_cells; }
 
   /// 64-bit hash of every field of every cell (and the grid's shape), for

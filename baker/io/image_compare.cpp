@@ -35,6 +35,22 @@ Image read_image(const std::string& path) {
   return image;
 }
 
+Image downsample(const Image& image, int factor) {
+  if (factor <= 1) return image;
+  if (image.width % factor || image.height % factor)
+    throw InputError("--downsample", std::to_string(image.width) + " x " +
+                                         std::to_string(image.height) +
+                                         " does not divide by " + std::to_string(factor));
+  oiio::ImageBuf src(oiio::ImageSpec(image.width, image.height, image.channels, oiio::TypeDesc::FLOAT));
+  src.set_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, image.pixels.data());
+  const int w = image.width / factor, h = image.height / factor;
+  // OpenImageIO sizes the box to one output pixel: the mean of each block.
+  oiio::ImageBuf dst = oiio::ImageBufAlgo::resize(src, "box", 0.0f, oiio::ROI(0, w, 0, h, 0, 1, 0, image.channels));
+  Image out(w, h, image.channels);
+  dst.get_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, out.pixels.data());
+  return out;
+}
+
 ImageDiff compare_images(const Image& reference, const Image& test, double threshold) {
   if (reference.width != test.width || reference.height != test.height)
     throw InputError("", "images differ in size: " + std::to_string(reference.width) + " x " +

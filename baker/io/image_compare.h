@@ -24,6 +24,10 @@ struct ImageDiff {
 /// naming the file when it is missing or unreadable.
 Image read_image(const std::string& path);
 
+/// Box-filters `image` down by an integer `factor` (each output pixel the mean
+/// of factor x factor input pixels); sizes must divide.
+Image downsample(const Image& image, int factor);
+
 /// `reference` and `test` must have the same size (InputError otherwise).
 /// `threshold` <= 0 means 1% of the reference's peak.
 ImageDiff compare_images(const Image& reference, const Image& test, double threshold = 0.0);
