@@ -41,11 +41,15 @@ void run_compare(const CompareArgs& a) {
     throw e.in_file(a.test);
   }
   if (!a.heatmap.empty()) io::write_png(a.heatmap, io::error_heatmap(ref, tst), false);
-  const nlohmann::json j = {{"reference", a.reference}, {"test", a.test},
-                            {"rmse", d.rmse},           {"relative_rmse", d.relative_rmse},
-                            {"psnr", d.psnr_db},        {"max_error", d.max_error},
+  const nlohmann::json j = {{"reference", a.reference},
+                            {"test", a.test},
+                            {"rmse", d.rmse},
+                            {"relative_rmse", d.relative_rmse},
+                            {"psnr", d.psnr_db},
+                            {"max_error", d.max_error},
                             {"share_over_threshold", d.share_over},
-                            {"threshold", d.threshold}, {"reference_peak", d.reference_peak},
+                            {"threshold", d.threshold},
+                            {"reference_peak", d.reference_peak},
                             {"reference_mean", d.reference_mean}};
   if (a.json)
     std::printf("%s\n", j.dump(2).c_str());

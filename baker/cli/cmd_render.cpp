@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <memory>
 
+#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -37,7 +37,8 @@ void run_render(const RenderArgs& args) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     args.threads);
   const std::string ext = std::filesystem::path(args.out_exr).extension().string();
-  if (ext != ".exr") throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
+  if (ext != ".exr")
+    throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
   // Everything is read and checked before any output is written.
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;

@@ -48,8 +48,8 @@ float walk_cells(const VolumeTexture& volume, const Imath::V3f& p_texture,
   for (int a = 0; a < 2; ++a) idx[a] = ((idx[a] % n[a]) + n[a]) % n[a];
   float t = 0.0f;
   while (t < t_max) {
-    const int a = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2)
-                                         : (t_next[1] < t_next[2] ? 1 : 2);
+    const int a =
+        t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
     const float t_exit = std::min(t_next[a], t_max);
     if (t_exit > t && !visit(volume.at_wrapped(idx[0], idx[1], idx[2]), t, t_exit)) return t_exit;
     t = t_exit;

@@ -23,7 +23,8 @@ struct Image {
   Image rgb() const {
     Image out(width, height, 3);
     for (size_t i = 0; i < size_t(width) * height; ++i)
-      for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = c < channels ? pixels[i * channels + c] : 0.0f;
+      for (int c = 0; c < 3; ++c)
+        out.pixels[i * 3 + c] = c < channels ? pixels[i * channels + c] : 0.0f;
     return out;
   }
 };

@@ -12,7 +12,8 @@ struct Light {
   Imath::V3f to_light_world{0, 0, 1};  ///< directional: unit vector toward the light
   Imath::V3f position_world{0, 0, 0};  ///< point: position
   Imath::V3f color{1, 1, 1};           ///< linear RGB
-  float intensity = 1.0f;  ///< directional: irradiance on a surface facing it; point: intensity (irradiance at 1 world unit)
+  float intensity = 1.0f;  ///< directional: irradiance on a surface facing it; point: intensity
+                           ///< (irradiance at 1 world unit)
 
   /// Unit direction toward the light from p_world and the irradiance arriving
   /// there (before any transmittance through the cloth). A point light at

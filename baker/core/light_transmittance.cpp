@@ -53,6 +53,7 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
   cache.m_cell = volume.cell_size_mm();
   cache.m_tau.assign(volume.cell_count(), 0.0f);
   cache.m_from_above = to_light.z >= 0.0f;
+  cache.m_to_light = to_light;
   const V3f cell = cache.m_cell;
   const int nx = cache.m_nx, ny = cache.m_ny, nz = cache.m_nz;
   auto at = [&](int i, int j, int k) -> float& {
@@ -66,9 +67,9 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
       const int k = row / ny, j = row % ny;
       for (int i = 0; i < nx; ++i) {
         const V3f p((i + 0.5f) * cell.x, (j + 0.5f) * cell.y, (k + 0.5f) * cell.z);
-        at(i, j, k) = optical_depth(volume, p, to_light,
-                                    distance_to_exit(volume, p, to_light, march_cap_mm(volume)),
-                                    sigma);
+        at(i, j, k) =
+            optical_depth(volume, p, to_light,
+                          distance_to_exit(volume, p, to_light, march_cap_mm(volume)), sigma);
       }
     });
     return cache;
@@ -79,11 +80,10 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
   const bool from_above = to_light.z > 0.0f;
   const int first = from_above ? nz - 1 : 0, dir = from_above ? -1 : 1;
   const float seg = cell.z / std::fabs(to_light.z);  // length between centre planes
-  const V3f shift = to_light * seg;                   // offset to the previous plane
+  const V3f shift = to_light * seg;                  // offset to the previous plane
   // Two sub-segments per layer crossed (one in each half-layer), more when
   // the segment runs across several cells sideways.
-  const float across_cells =
-      std::max(std::fabs(shift.x) / cell.x, std::fabs(shift.y) / cell.y);
+  const float across_cells = std::max(std::fabs(shift.x) / cell.x, std::fabs(shift.y) / cell.y);
   const int n_sub = std::max(2, int(std::ceil(2.0f * across_cells)));
   const float inv_nx = 1.0f / float(nx), inv_ny = 1.0f / float(ny);
   for (int n = 0; n < nz; ++n) {
@@ -92,9 +92,9 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
       for (int i = 0; i < nx; ++i) {
         const V3f p((i + 0.5f) * cell.x, (j + 0.5f) * cell.y, (k + 0.5f) * cell.z);
         if (n == 0) {
-          at(i, j, k) = optical_depth(volume, p, to_light,
-                                      distance_to_exit(volume, p, to_light, march_cap_mm(volume)),
-                                      sigma);
+          at(i, j, k) =
+              optical_depth(volume, p, to_light,
+                            distance_to_exit(volume, p, to_light, march_cap_mm(volume)), sigma);
           continue;
         }
         // Bilinear in the previous layer, periodic.
@@ -130,7 +130,7 @@ TransmittanceCache TransmittanceCache::build(const VolumeTexture& volume, const 
   return cache;
 }
 
-float TransmittanceCache::lookup(const V3f& p) const {
+float TransmittanceCache::lookup_depth(const V3f& p) const {
   float gz = p.z / m_cell.z - 0.5f;
   int xa, ya;
   float fx, fy;
@@ -158,7 +158,38 @@ float TransmittanceCache::lookup(const V3f& p) const {
     const float fz = z1 > z0 ? gz - float(z0) : 0.0f;
     depth = layer(z0) * (1.0f - fz) + layer(z1) * fz;
   }
-  return depth >= k_opaque_optical_depth ? 0.0f : std::exp(-depth);
+  return depth;
+}
+
+float TransmittanceCache::march_then_lookup(const VolumeTexture& volume, const V3f& p,
+                                            const V3f& to_light, float sigma) const {
+  const float gz = p.z / m_cell.z - 0.5f;
+  // The first layer-centre plane beyond p toward the light.
+  const int k = m_from_above ? int(std::floor(gz)) + 1 : int(std::ceil(gz)) - 1;
+  if (k < 0 || k >= m_nz || std::fabs(to_light.z) < 1e-4f) {
+    const float length = distance_to_exit(volume, p, to_light, march_cap_mm(volume));
+    return optical_depth(volume, p, to_light, length, sigma);
+  }
+  const float length = ((k + 0.5f) * m_cell.z - p.z) / to_light.z;
+  const float near = optical_depth(volume, p, to_light, std::max(0.0f, length), sigma);
+  if (near >= k_opaque_optical_depth) return near;
+  const V3f q = p + to_light * length;
+  int xa, ya;
+  float fx, fy;
+  wrap_floor(q.x / m_cell.x - 0.5f, m_nx, 1.0f / float(m_nx), xa, fx);
+  wrap_floor(q.y / m_cell.y - 0.5f, m_ny, 1.0f / float(m_ny), ya, fy);
+  const int xb = xa + 1 == m_nx ? 0 : xa + 1, yb = ya + 1 == m_ny ? 0 : ya + 1;
+  auto tau = [&](int i, int j) { return m_tau[(size_t(k) * m_ny + j) * m_nx + i]; };
+  const float far = (tau(xa, ya) * (1 - fx) + tau(xb, ya) * fx) * (1 - fy) +
+                    (tau(xa, yb) * (1 - fx) + tau(xb, yb) * fx) * fy;
+  return near + far * depth_scale_for(to_light);
+}
+
+float TransmittanceCache::depth_scale_for(const V3f& to_light_texture) const {
+  if ((to_light_texture.z >= 0.0f) != m_from_above) return -1.0f;
+  const float z = std::fabs(to_light_texture.z);
+  if (z < 1e-4f) return -1.0f;
+  return std::clamp(std::fabs(m_to_light.z) / z, 0.05f, 20.0f);
 }
 
 }  // namespace clothbake

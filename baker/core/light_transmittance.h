@@ -9,6 +9,7 @@
 /// Transmittance = exp(-sigma * sum(rho * segment length)), lengths in mm of
 /// texture space, sigma = extinction per mm at rho = 1.
 
+#include <cmath>
 #include <vector>
 
 #include <Imath/ImathVec.h>
@@ -40,13 +41,33 @@ class TransmittanceCache {
   /// centres (periodic in x and y) and toward 0 at the face the light enters
   /// by; interpolating depth rather than transmittance keeps a homogeneous
   /// slab exact (depth is linear in z there, transmittance is not).
-  float lookup(const Imath::V3f& p_texture) const;
+  float lookup(const Imath::V3f& p_texture) const { return transmittance(lookup_depth(p_texture)); }
+  /// The interpolated optical depth itself.
+  float lookup_depth(const Imath::V3f& p_texture) const;
+  /// Optical depth at p along `to_light_texture` (the cache's direction or a
+  /// nearby one): marched exactly (DDA) from p to the next layer-centre plane
+  /// toward the light, then the cached depth there, interpolated in x and y
+  /// only. Removes the interpolation error inside the sample's own layer,
+  /// where the weave's sharp yarn edges make trilinear interpolation poor.
+  float march_then_lookup(const VolumeTexture& volume, const Imath::V3f& p_texture,
+                          const Imath::V3f& to_light_texture, float extinction_per_mm) const;
+  /// Optical depth toward a nearby direction `to_light_texture` (same side of
+  /// the cloth): the cached depth scaled by the ratio of path lengths through
+  /// the layers, |cached.z| / |to_light.z|: exact in a horizontally uniform
+  /// volume, first-order elsewhere. Corrects for the light direction varying
+  /// over a curved quad. Returns a negative value when the direction is on
+  /// the other side of the cloth (the caller marches instead).
+  float depth_scale_for(const Imath::V3f& to_light_texture) const;
+  static float transmittance(float depth) {
+    return depth >= k_opaque_optical_depth ? 0.0f : std::exp(-depth);
+  }
   bool empty() const { return m_tau.empty(); }
 
  private:
   int m_nx = 0, m_ny = 0, m_nz = 0;
   Imath::V3f m_cell{1, 1, 1};
   bool m_from_above = true;
+  Imath::V3f m_to_light{0, 0, 1};
   std::vector<float> m_tau;  // optical depth toward the light at cell centres, [k][j][i]
 };
 

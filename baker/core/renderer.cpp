@@ -17,8 +17,8 @@ namespace clothbake {
 
 namespace {
 using Imath::V3f;
-constexpr int k_bin_px = 16;       // screen tile size for camera-ray binning
-constexpr int k_max_layers = 16;   // cloth layers one ray may cross
+constexpr int k_bin_px = 16;      // screen tile size for camera-ray binning
+constexpr int k_max_layers = 16;  // cloth layers one ray may cross
 constexpr float k_cap_repeats = 64.0f;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -198,9 +198,14 @@ TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const
           V3f(to_light_world.dot(frame.tangent_world), to_light_world.dot(frame.bitangent_world),
               to_light_world.dot(frame.normal_world));
       lights[l].to_light_texture = frame.texture_from_world(to_light_world).normalized();
-      lights[l].cache = rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty()
-                            ? &obj.caches[size_t(q) * m_scene.lights.size() + l]
-                            : nullptr;
+      lights[l].cache = nullptr;
+      if (rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty()) {
+        const TransmittanceCache& cache = obj.caches[size_t(q) * m_scene.lights.size() + l];
+        lights[l].cache_depth_scale = cache.depth_scale_for(lights[l].to_light_texture);
+        // A light on the other side of the cloth here than at the quad's
+        // centre: march for this hit.
+        if (lights[l].cache_depth_scale > 0.0f) lights[l].cache = &cache;
+      }
     }
     const V3f to_eye_world = -ray.direction_world;
     MarchInput in;
@@ -209,8 +214,9 @@ TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const
     in.entry_texture = entry_texture;
     in.dir_texture = dir_texture;
     in.length_mm = length_mm;
-    in.to_eye_local = V3f(to_eye_world.dot(frame.tangent_world),
-                          to_eye_world.dot(frame.bitangent_world), to_eye_world.dot(frame.normal_world));
+    in.to_eye_local =
+        V3f(to_eye_world.dot(frame.tangent_world), to_eye_world.dot(frame.bitangent_world),
+            to_eye_world.dot(frame.normal_world));
     in.mm_per_world = frame.mm_per_world;
     in.lights = std::span<const MarchLight>(lights, n_lights);
     in.extinction_per_mm = obj.source->extinction_per_mm;
@@ -254,7 +260,8 @@ Image Renderer::render(const std::function<void(double)>& progress) {
           const float sx = ((s % strata) + rng.next_float()) / strata;
           const float sy = (((s / strata) % strata) + rng.next_float()) / strata;
           const Ray ray = cam.generate_ray(px + sx, py + sy);
-          const TraceResult r = m_bins[bin].empty() ? TraceResult{} : trace_binned(ray, rng.next_u64(), bin);
+          const TraceResult r =
+              m_bins[bin].empty() ? TraceResult{} : trace_binned(ray, rng.next_u64(), bin);
           sum += r.radiance + m_scene.background * r.transmittance;
           alpha += 1.0f - r.transmittance;
           local_samples += r.samples;

@@ -21,18 +21,18 @@ enum class TransmittanceMode {
 
 /// What a sample scatters.
 enum class ShadingMode {
-  Fiber,      ///< the fibre reflection model with the cell's coefficients (the paper)
-  Isotropic   ///< albedo x isotropic phase 1/(4 pi): for analytic checks (testscenes/slab)
+  Fiber,     ///< the fibre reflection model with the cell's coefficients (the paper)
+  Isotropic  ///< albedo x isotropic phase 1/(4 pi): for analytic checks (testscenes/slab)
 };
 
 struct RenderSettings {
-  int spp = 4;                 ///< samples per pixel (jittered, stratified)
-  float step_cells = 0.5f;     ///< march step as a fraction of the smallest cell edge
+  int spp = 4;              ///< samples per pixel (jittered, stratified)
+  float step_cells = 0.5f;  ///< march step as a fraction of the smallest cell edge
   FiberModelKind fiber_model = FiberModelKind::Table;
-  int fiber_samples = 64;      ///< ellipsoid samples (direct model and table entries)
+  int fiber_samples = 64;  ///< ellipsoid samples (direct model and table entries)
   TransmittanceMode transmittance = TransmittanceMode::Cached;
   ShadingMode shading = ShadingMode::Fiber;
-  float cutoff = 1e-3f;        ///< stop the view march when transmittance falls below this
+  float cutoff = 1e-3f;  ///< stop the view march when transmittance falls below this
   uint64_t seed = 1;
 };
 
@@ -40,9 +40,10 @@ struct ClothObject {
   std::string name;
   QuadMesh mesh;
   ClothSpec cloth;
-  float repeats_per_uv = 40.0f;     ///< weave repeats per unit of UV, in u and in v
-  float thickness_world = 0.01f;    ///< depth of the volume below the surface, world units
-  float extinction_per_mm = 40.0f;  ///< sigma: extinction of fibre at rho = 1, per mm of texture path
+  float repeats_per_uv = 40.0f;   ///< weave repeats per unit of UV, in u and in v
+  float thickness_world = 0.01f;  ///< depth of the volume below the surface, world units
+  float extinction_per_mm =
+      40.0f;  ///< sigma: extinction of fibre at rho = 1, per mm of texture path
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};  ///< used in ShadingMode::Isotropic only
 };
 

@@ -27,6 +27,7 @@ struct MarchLight {
   Imath::V3f to_light_local;    ///< unit, local orthonormal frame: for shading
   Imath::V3f irradiance;        ///< arriving at the cloth, before the cloth's own attenuation
   const TransmittanceCache* cache = nullptr;  ///< null: march toward the light at every sample
+  float cache_depth_scale = 1.0f;  ///< TransmittanceCache::depth_scale_for(to_light_texture)
 };
 
 struct MarchInput {
@@ -49,8 +50,9 @@ struct MarchInput {
 
 struct MarchResult {
   Imath::V3f radiance{0, 0, 0};  ///< light leaving toward the eye
-  float transmittance = 1.0f;    ///< un-absorbed fraction: the see-through (0 when stopped at the cutoff)
-  int samples = 0;               ///< samples shaded (with fibre in their cell)
+  float transmittance =
+      1.0f;         ///< un-absorbed fraction: the see-through (0 when stopped at the cutoff)
+  int samples = 0;  ///< samples shaded (with fibre in their cell)
 };
 
 MarchResult march_view_ray(const MarchInput& in);

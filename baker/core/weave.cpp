@@ -80,8 +80,9 @@ WeaveDraft WeaveDraft::named(std::string_view name) {
     return WeaveDraft({{1, 1, 0, 0}, {1, 1, 0, 0}, {0, 0, 1, 1}, {0, 0, 1, 1}});
   std::string list;
   for (const auto& n : names()) list += (list.empty() ? "" : ", ") + n;
-  throw InputError("weave.pattern", "unknown weave '" + std::string(name) + "'; expected one of: " +
-                                        list + ", uniform (a homogeneous slab), or give weave.draft as a matrix");
+  throw InputError("weave.pattern",
+                   "unknown weave '" + std::string(name) + "'; expected one of: " + list +
+                       ", uniform (a homogeneous slab), or give weave.draft as a matrix");
 }
 
 bool WeaveDraft::warp_up(int pick, int end) const {

@@ -39,13 +39,15 @@ Image downsample(const Image& image, int factor) {
   if (factor <= 1) return image;
   if (image.width % factor || image.height % factor)
     throw InputError("--downsample", std::to_string(image.width) + " x " +
-                                         std::to_string(image.height) +
-                                         " does not divide by " + std::to_string(factor));
-  oiio::ImageBuf src(oiio::ImageSpec(image.width, image.height, image.channels, oiio::TypeDesc::FLOAT));
+                                         std::to_string(image.height) + " does not divide by " +
+                                         std::to_string(factor));
+  oiio::ImageBuf src(
+      oiio::ImageSpec(image.width, image.height, image.channels, oiio::TypeDesc::FLOAT));
   src.set_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, image.pixels.data());
   const int w = image.width / factor, h = image.height / factor;
   // OpenImageIO sizes the box to one output pixel: the mean of each block.
-  oiio::ImageBuf dst = oiio::ImageBufAlgo::resize(src, "box", 0.0f, oiio::ROI(0, w, 0, h, 0, 1, 0, image.channels));
+  oiio::ImageBuf dst =
+      oiio::ImageBufAlgo::resize(src, "box", 0.0f, oiio::ROI(0, w, 0, h, 0, 1, 0, image.channels));
   Image out(w, h, image.channels);
   dst.get_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, out.pixels.data());
   return out;
@@ -79,7 +81,8 @@ Image error_heatmap(const Image& reference, const Image& test, double scale_max)
   for (int y = 0; y < reference.height; ++y)
     for (int x = 0; x < reference.width; ++x) {
       float e = 0.0f;
-      for (int c = 0; c < 3; ++c) e = std::max(e, std::fabs(test.at(x, y)[c] - reference.at(x, y)[c]));
+      for (int c = 0; c < 3; ++c)
+        e = std::max(e, std::fabs(test.at(x, y)[c] - reference.at(x, y)[c]));
       err.at(x, y)[0] = e;
       largest = std::max(largest, double(e));
     }

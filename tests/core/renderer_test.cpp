@@ -47,7 +47,8 @@ Scene slab_scene(float density, float extinction, int layers) {
 
 V3f direction(double theta_deg, double phi_deg) {
   const double t = theta_deg * k_pi / 180.0, p = phi_deg * k_pi / 180.0;
-  return V3f(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)), float(std::cos(t)));
+  return V3f(float(std::sin(t) * std::cos(p)), float(std::sin(t) * std::sin(p)),
+             float(std::cos(t)));
 }
 
 /// Single scattering from a homogeneous slab of optical depth tau0, isotropic
@@ -210,7 +211,8 @@ TEST(Renderer, SameBytesForAnyThreadCount) {
     two = Renderer(scene, k_budget).render();
   }
   ASSERT_EQ(one.pixels.size(), two.pixels.size());
-  EXPECT_EQ(0, std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(float)));
+  EXPECT_EQ(0,
+            std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(float)));
 }
 
 }  // namespace
