@@ -16,6 +16,9 @@ int main(int argc, char** argv) {
   clothbake::cli::register_fiber_command(app);
   clothbake::cli::register_render_command(app);
   clothbake::cli::register_compare_command(app);
+  clothbake::cli::register_merge_command(app);
+  clothbake::cli::register_bake_command(app);
+  clothbake::cli::register_lookup_render_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -64,6 +64,9 @@ Renderer::Renderer(const Scene& scene, uint64_t memory_budget_bytes,
 Renderer::~Renderer() = default;
 
 const VolumeTexture& Renderer::volume(int object) const { return *m_objects[object].volume; }
+int Renderer::object_count() const { return int(m_objects.size()); }
+int Renderer::quad_count(int object) const { return int(m_objects[object].patches.size()); }
+
 const QuadPatch& Renderer::patch(int object, int quad) const {
   return m_objects[object].patches[quad];
 }
@@ -152,10 +155,79 @@ bool Renderer::nearest_hit(const Ray& ray, float t_min, int& object, int& quad, 
 }
 
 TraceResult Renderer::trace(const Ray& ray_world, uint64_t seed) const {
-  return trace_binned(ray_world, seed, -1);
+  return trace_binned(ray_world, seed, -1, nullptr);
 }
 
-TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const {
+MarchResult Renderer::shade_surface(int o, int q, float s, float t, const V3f& ray_dir_world,
+                                    Rng& rng) const {
+  const RenderSettings& rs = m_scene.settings;
+  const Object& obj = m_objects[o];
+  const QuadPatch& patch = obj.patches[q];
+  const VolumeTexture& volume = *obj.volume;
+
+  // The map m: hit point, view and lights carried into texture space.
+  const SurfaceFrame frame = patch.frame(s, t);
+  const V3f p_world = patch.position_world(s, t);
+  const V3f dir_texture = frame.texture_from_world(ray_dir_world).normalized();
+  const V3f top_texture = patch.texture_point(s, t);
+  const float cap = k_cap_repeats * std::max(volume.size_mm().x, volume.size_mm().y);
+  V3f entry_texture = top_texture;
+  float length_mm = 0.0f;
+  if (dir_texture.z < 0.0f) {  // from the front: down from the top face
+    length_mm = distance_to_exit(volume, top_texture, dir_texture, cap);
+  } else if (dir_texture.z > 0.0f) {  // from behind: up from the bottom face to the hit
+    length_mm = std::min(cap, volume.size_mm().z / dir_texture.z);
+    entry_texture = top_texture - dir_texture * length_mm;
+  }
+  // Draw the random numbers whether or not the march runs, so one ray's
+  // sequence does not depend on another's geometry.
+  const float jitter = rng.next_float();
+  const uint64_t seed = rng.next_u64();
+  if (length_mm <= 0.0f) return MarchResult{};
+
+  MarchLight lights[k_max_march_lights];
+  const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
+  for (size_t l = 0; l < n_lights; ++l) {
+    V3f to_light_world;
+    m_scene.lights[l].illuminate(p_world, to_light_world, lights[l].irradiance);
+    lights[l].to_light_local =
+        V3f(to_light_world.dot(frame.tangent_world), to_light_world.dot(frame.bitangent_world),
+            to_light_world.dot(frame.normal_world));
+    lights[l].to_light_texture = frame.texture_from_world(to_light_world).normalized();
+    lights[l].cache = nullptr;
+    if (rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty()) {
+      const TransmittanceCache& cache = obj.caches[size_t(q) * m_scene.lights.size() + l];
+      lights[l].cache_depth_scale = cache.depth_scale_for(lights[l].to_light_texture);
+      // A light on the other side of the cloth here than at the quad's
+      // centre: march for this hit.
+      if (lights[l].cache_depth_scale > 0.0f) lights[l].cache = &cache;
+    }
+  }
+  const V3f to_eye_world = -ray_dir_world;
+  MarchInput in;
+  in.volume = &volume;
+  in.shader = obj.shader.get();
+  in.entry_texture = entry_texture;
+  in.dir_texture = dir_texture;
+  in.length_mm = length_mm;
+  in.to_eye_local =
+      V3f(to_eye_world.dot(frame.tangent_world), to_eye_world.dot(frame.bitangent_world),
+          to_eye_world.dot(frame.normal_world));
+  in.mm_per_world = frame.mm_per_world;
+  in.lights = std::span<const MarchLight>(lights, n_lights);
+  in.extinction_per_mm = obj.source->extinction_per_mm;
+  const V3f cell = volume.cell_size_mm();
+  in.step_mm = rs.step_cells * std::min({cell.x, cell.y, cell.z});
+  in.cutoff = rs.cutoff;
+  in.jitter = jitter;
+  in.shading = rs.shading;
+  in.isotropic_albedo = obj.source->isotropic_albedo;
+  in.seed = seed;
+  return march_view_ray(in);
+}
+
+TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin,
+                                   const HitShader* shader) const {
   TraceResult out;
   const RenderSettings& rs = m_scene.settings;
   Rng rng(seed);
@@ -165,69 +237,23 @@ TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const
     int o = -1, q = -1;
     PatchHit hit;
     if (!nearest_hit(ray, t_min, o, q, hit, bin)) break;
+    // Where the ray leaves the volume below a front-facing hit: the next
+    // layer can only start beyond it.
     const Object& obj = m_objects[o];
-    const QuadPatch& patch = obj.patches[q];
-    const VolumeTexture& volume = *obj.volume;
-
-    // The map m: hit point, view and lights carried into texture space.
-    const SurfaceFrame frame = patch.frame(hit.s, hit.t);
-    const V3f p_world = ray.origin_world + ray.direction_world * hit.t_world;
+    const SurfaceFrame frame = obj.patches[q].frame(hit.s, hit.t);
     const V3f dir_scaled = frame.texture_from_world(ray.direction_world);  // mm per world unit
-    const float mm_per_world_along_ray = dir_scaled.length();
-    const V3f dir_texture = dir_scaled / mm_per_world_along_ray;
-    const V3f top_texture = patch.texture_point(hit.s, hit.t);
-    const float cap = k_cap_repeats * std::max(volume.size_mm().x, volume.size_mm().y);
-    V3f entry_texture = top_texture;
-    float length_mm = 0.0f, world_after = 0.0f;
-    if (dir_texture.z < 0.0f) {  // from the front: down from the top face
-      length_mm = distance_to_exit(volume, top_texture, dir_texture, cap);
-      world_after = length_mm / mm_per_world_along_ray;
-    } else if (dir_texture.z > 0.0f) {  // from behind: up from the bottom face to the hit
-      length_mm = std::min(cap, volume.size_mm().z / dir_texture.z);
-      entry_texture = top_texture - dir_texture * length_mm;
+    float world_after = 0.0f;
+    if (dir_scaled.z < 0.0f) {
+      const VolumeTexture& volume = *obj.volume;
+      const float cap = k_cap_repeats * std::max(volume.size_mm().x, volume.size_mm().y);
+      const V3f dir_texture = dir_scaled.normalized();
+      world_after =
+          distance_to_exit(volume, obj.patches[q].texture_point(hit.s, hit.t), dir_texture, cap) /
+          dir_scaled.length();
     }
     t_min = hit.t_world + world_after + 1e-5f * std::max(1.0f, hit.t_world);
-    if (length_mm <= 0.0f) continue;
-
-    MarchLight lights[k_max_march_lights];
-    const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
-    for (size_t l = 0; l < n_lights; ++l) {
-      V3f to_light_world;
-      m_scene.lights[l].illuminate(p_world, to_light_world, lights[l].irradiance);
-      lights[l].to_light_local =
-          V3f(to_light_world.dot(frame.tangent_world), to_light_world.dot(frame.bitangent_world),
-              to_light_world.dot(frame.normal_world));
-      lights[l].to_light_texture = frame.texture_from_world(to_light_world).normalized();
-      lights[l].cache = nullptr;
-      if (rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty()) {
-        const TransmittanceCache& cache = obj.caches[size_t(q) * m_scene.lights.size() + l];
-        lights[l].cache_depth_scale = cache.depth_scale_for(lights[l].to_light_texture);
-        // A light on the other side of the cloth here than at the quad's
-        // centre: march for this hit.
-        if (lights[l].cache_depth_scale > 0.0f) lights[l].cache = &cache;
-      }
-    }
-    const V3f to_eye_world = -ray.direction_world;
-    MarchInput in;
-    in.volume = &volume;
-    in.shader = obj.shader.get();
-    in.entry_texture = entry_texture;
-    in.dir_texture = dir_texture;
-    in.length_mm = length_mm;
-    in.to_eye_local =
-        V3f(to_eye_world.dot(frame.tangent_world), to_eye_world.dot(frame.bitangent_world),
-            to_eye_world.dot(frame.normal_world));
-    in.mm_per_world = frame.mm_per_world;
-    in.lights = std::span<const MarchLight>(lights, n_lights);
-    in.extinction_per_mm = obj.source->extinction_per_mm;
-    const V3f cell = volume.cell_size_mm();
-    in.step_mm = rs.step_cells * std::min({cell.x, cell.y, cell.z});
-    in.cutoff = rs.cutoff;
-    in.jitter = rng.next_float();
-    in.shading = rs.shading;
-    in.isotropic_albedo = obj.source->isotropic_albedo;
-    in.seed = rng.next_u64();
-    const MarchResult m = march_view_ray(in);
+    const MarchResult m = shader ? (*shader)(o, q, hit.s, hit.t, ray.direction_world, rng)
+                                 : shade_surface(o, q, hit.s, hit.t, ray.direction_world, rng);
     out.radiance += m.radiance * throughput;
     throughput *= m.transmittance;
     out.samples += uint64_t(m.samples);
@@ -238,6 +264,10 @@ TraceResult Renderer::trace_binned(const Ray& ray, uint64_t seed, int bin) const
 
 Image Renderer::render(const std::function<void(double)>& progress) {
   prepare_light_caches();
+  return render_with(nullptr, progress);
+}
+
+Image Renderer::render_with(const HitShader* shader, const std::function<void(double)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   const PinholeCamera& cam = m_scene.camera;
   const RenderSettings& rs = m_scene.settings;
@@ -261,7 +291,7 @@ Image Renderer::render(const std::function<void(double)>& progress) {
           const float sy = (((s / strata) % strata) + rng.next_float()) / strata;
           const Ray ray = cam.generate_ray(px + sx, py + sy);
           const TraceResult r =
-              m_bins[bin].empty() ? TraceResult{} : trace_binned(ray, rng.next_u64(), bin);
+              m_bins[bin].empty() ? TraceResult{} : trace_binned(ray, rng.next_u64(), bin, shader);
           sum += r.radiance + m_scene.background * r.transmittance;
           alpha += 1.0f - r.transmittance;
           local_samples += r.samples;

@@ -18,7 +18,9 @@
 #include "core/image.h"
 #include "core/light_transmittance.h"
 #include "core/quad_patch.h"
+#include "core/random.h"
 #include "core/scene.h"
+#include "core/volume_march.h"
 #include "core/volume_texture.h"
 
 namespace clothbake {
@@ -39,6 +41,11 @@ struct TraceResult {
 
 class Renderer {
  public:
+  /// Computes what one cloth surface point shows along a ray: by default the
+  /// march (shade_surface); lookup-render substitutes a baked lookup.
+  using HitShader = std::function<MarchResult(int object, int quad, float s, float t,
+                                              const Imath::V3f& ray_dir_world, Rng& rng)>;
+
   /// Prepares every object: its volume texture (refused over the memory
   /// budget), its fibre shader and its quad patches. `volumes`, if given,
   /// replaces the generated volume of each object (tests, bakes reusing one).
@@ -54,6 +61,18 @@ class Renderer {
   /// `seed` drives the march jitter and the direct fibre model.
   TraceResult trace(const Ray& ray_world, uint64_t seed) const;
 
+  /// Renders with a substitute per-hit shader (same sampling, seeds, layers
+  /// and compositing as render()).
+  Image render_with(const HitShader* shader, const std::function<void(double)>& progress = {});
+
+  /// The march at patch parameters (s, t) of a quad, for a ray arriving in
+  /// direction `ray_dir_world` (front or back side): radiance and see-through
+  /// of that one layer. Draws exactly two random numbers from `rng`.
+  MarchResult shade_surface(int object, int quad, float s, float t, const Imath::V3f& ray_dir_world,
+                            Rng& rng) const;
+  int object_count() const;
+  int quad_count(int object) const;
+
   const RenderStats& stats() const { return m_stats; }
   const Scene& scene() const { return m_scene; }
   const VolumeTexture& volume(int object) const;
@@ -66,7 +85,8 @@ class Renderer {
   struct Object;
   bool nearest_hit(const Ray& ray, float t_min, int& object, int& quad, PatchHit& hit,
                    int bin) const;
-  TraceResult trace_binned(const Ray& ray_world, uint64_t seed, int bin) const;
+  TraceResult trace_binned(const Ray& ray_world, uint64_t seed, int bin,
+                           const HitShader* shader) const;
   void build_bins();
 
   const Scene& m_scene;

@@ -1,0 +1,55 @@
+// `clothbake merge PART_DIR... -o OUT_DIR`: joins partial bakes of one scene
+// (`clothbake bake --quads A-B`) into one lookup folder, identical to a whole
+// bake of the union (docs/lookup-format.md).
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "io/lookup_io.h"
+
+namespace clothbake::cli {
+
+namespace {
+struct MergeArgs {
+  std::vector<std::string> parts;
+  std::string out_dir;
+};
+
+void run_merge(const MergeArgs& a) {
+  io::LookupInfo info;
+  const std::vector<LookupTable> tables = io::merge_lookups(a.parts, info);
+  // The lights and object names the parts recorded (the scene file is not needed).
+  const Scene scene = io::read_lookup_scene(a.parts.front());
+  io::write_lookup(a.out_dir, tables, info, scene);
+  uint64_t baked = 0, total = 0;
+  for (const LookupTable& t : tables)
+    for (size_t q = 0; q < t.rects.size(); ++q) {
+      total += t.rects[q].size > 0;
+      baked += t.quad_baked(int(q));
+    }
+  const nlohmann::json report = {{"out", a.out_dir},
+                                 {"parts", a.parts},
+                                 {"scene_hash", info.scene_hash},
+                                 {"quads_baked", baked},
+                                 {"quads_in_layout", total},
+                                 {"bytes_uncompressed", io::lookup_bytes(tables)}};
+  std::printf("%s\n", report.dump(2).c_str());
+}
+}  // namespace
+
+void register_merge_command(CLI::App& app) {
+  auto args = std::make_shared<MergeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "merge", "Join partial bakes (bake --quads) of one scene into one lookup folder");
+  cmd->add_option("parts", args->parts, "lookup folders of the partial bakes")->required();
+  cmd->add_option("-o,--out", args->out_dir, "output folder (replaced atomically)")->required();
+  cmd->callback([args] { run_merge(*args); });
+}
+
+}  // namespace clothbake::cli

@@ -1,0 +1,252 @@
+#include "core/baker.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "core/random.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+
+void check_settings(const BakeSettings& s) {
+  if (s.directions < 2 || s.directions > 64)
+    throw InputError("--directions", "K must be in [2, 64], got " + std::to_string(s.directions));
+  if (s.texels < 1 || s.texels > 4096)
+    throw InputError("--texels", "R must be in [1, 4096], got " + std::to_string(s.texels));
+  if (s.spp < 1 || s.spp > 4096)
+    throw InputError("--spp", "must be in [1, 4096], got " + std::to_string(s.spp));
+  if (!(s.texels_per_pixel > 0.0f) || s.texels_per_pixel > 64.0f)
+    throw InputError("--texels-per-pixel", "must be in (0, 64]");
+}
+
+/// The direction a node is baked from: its own, except on the horizon, where
+/// a ray parallel to the surface never enters the volume; there the node
+/// holds the limit toward the horizon, taken at 1 degree of elevation.
+V3f bake_direction(V3f d) {
+  const float min_z = 0.0174524f;  // sin(1 degree)
+  if (std::fabs(d.z) >= min_z) return d;
+  const float xy = std::sqrt(std::max(0.0f, 1.0f - min_z * min_z));
+  const float len = std::hypot(d.x, d.y);
+  const float sign = d.z < 0.0f ? -1.0f : 1.0f;
+  return len > 0.0f ? V3f(d.x / len * xy, d.y / len * xy, sign * min_z) : V3f(0, 0, sign);
+}
+
+/// Shelf packing of squares (plus gutters) in quad order: deterministic,
+/// rows as wide as the square root of the total area.
+void pack(LookupTable& t) {
+  const int g = t.gutter;
+  double area = 0.0;
+  int largest = 0;
+  for (const QuadRect& r : t.rects)
+    if (r.size) {
+      area += double(r.size + 2 * g) * (r.size + 2 * g);
+      largest = std::max(largest, r.size + 2 * g);
+    }
+  const int width = std::max(largest, int(std::ceil(std::sqrt(area) * 1.05)));
+  int x = 0, y = 0, row_height = 0;
+  for (QuadRect& r : t.rects) {
+    if (!r.size) continue;
+    const int w = r.size + 2 * g;
+    if (x + w > width) {
+      x = 0;
+      y += row_height;
+      row_height = 0;
+    }
+    r.x = x + g;
+    r.y = y + g;
+    x += w;
+    row_height = std::max(row_height, w);
+  }
+  t.tile_width = std::max(1, width);
+  t.tile_height = std::max(1, y + row_height);
+}
+}  // namespace
+
+BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
+  check_settings(s);
+  const Scene& scene = renderer.scene();
+  const PinholeCamera& cam = scene.camera;
+  BakePlan plan;
+  for (int o = 0; o < renderer.object_count(); ++o) {
+    LookupTable t;
+    t.dirs.k = s.directions;
+    t.dirs.map = s.map;
+    const int n_quads = renderer.quad_count(o);
+    const int nodes = 2 * s.directions * s.directions;
+    t.rects.assign(n_quads, {});
+    t.baked.assign(size_t(n_quads) * nodes, 0);
+    const int end = s.quad_end < 0 ? n_quads : std::min(s.quad_end, n_quads);
+    if (s.quad_begin < 0 || s.quad_begin > n_quads || s.quad_begin >= end)
+      throw InputError("--quads", "the range " + std::to_string(s.quad_begin) + "-" +
+                                      std::to_string(s.quad_end) + " selects no quad of the " +
+                                      std::to_string(n_quads));
+    for (int q = 0; q < n_quads; ++q) {
+      const QuadPatch& patch = renderer.patch(o, q);
+      plan.full_nodes += nodes;
+      plan.full_texels += uint64_t(s.texels) * s.texels;
+      if (!patch.valid()) continue;
+      uint8_t* flags = &t.baked[size_t(q) * nodes];
+      int size = s.texels;
+      if (!s.adaptive) {
+        std::fill(flags, flags + nodes, 1);
+      } else {
+        // Directions: where the camera sees the quad from, on a 9 x 9 grid of
+        // patch points; each marks the four nodes its lookup interpolates.
+        bool seen = false;
+        for (int b = 0; b <= 8; ++b)
+          for (int a = 0; a <= 8; ++a) {
+            const float ps = a / 8.0f, pt = b / 8.0f;
+            const V3f p = patch.position_world(ps, pt);
+            float x, y;
+            if (!cam.project(p, x, y)) continue;
+            const float margin = 2.0f;
+            if (x < -margin || y < -margin || x > cam.width + margin || y > cam.height + margin)
+              continue;
+            seen = true;
+            const SurfaceFrame f = patch.frame(ps, pt);
+            const V3f to_eye = (cam.position_world - p).normalized();
+            const V3f local(to_eye.dot(f.tangent_world), to_eye.dot(f.bitangent_world),
+                            to_eye.dot(f.normal_world));
+            const DirectionGrid::Footprint fp = t.dirs.locate(local);
+            for (int j : {fp.j0, fp.j1})
+              for (int i : {fp.i0, fp.i1}) flags[t.dirs.node_index(fp.side, i, j)] = 1;
+          }
+        if (!seen) continue;
+        // Texels: the longest projected edge, in pixels, times texels per pixel.
+        float longest = 0.0f;
+        bool all_projected = true;
+        V3f corners[4];
+        float px[4], py[4];
+        for (int c = 0; c < 4; ++c) {
+          corners[c] = patch.corner_world(c);
+          all_projected = all_projected && cam.project(corners[c], px[c], py[c]);
+        }
+        if (all_projected)
+          for (int c = 0; c < 4; ++c) {
+            const int d = (c + 1) % 4;
+            longest = std::max(longest, std::hypot(px[d] - px[c], py[d] - py[c]));
+          }
+        else
+          longest = float(std::max(cam.width, cam.height));
+        size = std::clamp(int(std::ceil(longest * s.texels_per_pixel / 4.0f)) * 4, s.min_texels,
+                          s.max_texels);
+      }
+      // The layout covers every quad the whole bake would, so partial bakes
+      // (--quads) of one scene share it and merge into the whole bake; only
+      // the flags are limited to the subset.
+      t.rects[q].size = size;
+      if (q < s.quad_begin || q >= end) {
+        std::fill(flags, flags + nodes, 0);
+        continue;
+      }
+      int baked_nodes = 0;
+      for (int n = 0; n < nodes; ++n) baked_nodes += flags[n];
+      plan.baked_nodes += baked_nodes;
+      plan.texels += uint64_t(size) * size;
+      plan.texel_direction_samples += uint64_t(size) * size * baked_nodes * s.spp;
+    }
+    plan.full_texel_direction_samples +=
+        uint64_t(n_quads) * s.texels * s.texels * nodes * uint64_t(s.spp);
+    pack(t);
+    plan.objects.push_back(std::move(t));
+  }
+  return plan;
+}
+
+std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, const BakeSettings& s,
+                                  const std::function<void(double)>& progress) {
+  renderer.prepare_light_caches();
+  std::vector<LookupTable> tables = plan.objects;
+  std::atomic<uint64_t> done{0};
+  std::mutex progress_mutex;
+  int last_percent = -1;
+  const double total = double(std::max<uint64_t>(1, plan.texel_direction_samples));
+  for (size_t o = 0; o < tables.size(); ++o) {
+    LookupTable& t = tables[o];
+    t.allocate_tiles();
+    const int nodes = t.node_count();
+    // One job per (quad, texel row): every texel's samples are seeded by
+    // their own indices, so the result does not depend on scheduling.
+    std::vector<std::pair<int, int>> jobs;
+    for (size_t q = 0; q < t.rects.size(); ++q) {
+      bool any = false;
+      for (int n = 0; n < nodes && !any; ++n) any = t.is_baked(int(q), n);
+      if (any)
+        for (int b = 0; b < t.rects[q].size; ++b) jobs.emplace_back(int(q), b);
+    }
+    tbb::parallel_for(size_t(0), jobs.size(), [&](size_t job) {
+      const auto [q, b] = jobs[job];
+      const QuadRect& r = t.rects[q];
+      const QuadPatch& patch = renderer.patch(int(o), q);
+      uint64_t local = 0;
+      for (int a = 0; a < r.size; ++a)
+        for (int node = 0; node < nodes; ++node) {
+          if (!t.is_baked(q, node)) continue;
+          const int side = node / t.dirs.nodes_per_side();
+          const int rem = node % t.dirs.nodes_per_side();
+          const V3f to_eye_local =
+              bake_direction(t.dirs.node_direction(side, rem % t.dirs.k, rem / t.dirs.k));
+          float sum[4] = {0, 0, 0, 0};
+          for (int k = 0; k < s.spp; ++k) {
+            // A jittered point of the texel's footprint.
+            Rng rng(hash_key(s.seed, o, uint64_t(q), uint64_t(a), uint64_t(b), uint64_t(node),
+                             uint64_t(k)));
+            const float ps = (a + rng.next_float()) / r.size;
+            const float pt = 1.0f - (b + rng.next_float()) / r.size;
+            const SurfaceFrame f = patch.frame(ps, pt);
+            const V3f to_eye_world = f.tangent_world * to_eye_local.x +
+                                     f.bitangent_world * to_eye_local.y +
+                                     f.normal_world * to_eye_local.z;
+            const MarchResult m = renderer.shade_surface(int(o), q, ps, pt, -to_eye_world, rng);
+            sum[0] += m.radiance.x;
+            sum[1] += m.radiance.y;
+            sum[2] += m.radiance.z;
+            sum[3] += 1.0f - m.transmittance;
+          }
+          Imath::half* texel = &t.tiles[node][((size_t(r.y + b) * t.tile_width) + r.x + a) * 4];
+          for (int c = 0; c < 4; ++c) texel[c] = Imath::half(sum[c] / float(s.spp));
+          local += uint64_t(s.spp);
+        }
+      const uint64_t now = done += local;
+      if (progress) {
+        const int percent = int(100.0 * double(now) / total);
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        if (percent != last_percent) {
+          last_percent = percent;
+          progress(double(now) / total);
+        }
+      }
+    });
+    t.fill_gutters();
+  }
+  return tables;
+}
+
+Renderer::HitShader lookup_shader(const Renderer& renderer, const std::vector<LookupTable>& tables,
+                                  std::atomic<uint64_t>* misses) {
+  return
+      [&renderer, &tables, misses](int o, int q, float s, float t, const V3f& ray_dir_world, Rng&) {
+        MarchResult m;
+        const SurfaceFrame f = renderer.patch(o, q).frame(s, t);
+        const V3f to_eye = -ray_dir_world;
+        const V3f local(to_eye.dot(f.tangent_world), to_eye.dot(f.bitangent_world),
+                        to_eye.dot(f.normal_world));
+        float rgba[4];
+        if (size_t(o) >= tables.size() || !tables[o].sample(q, s, t, local, rgba)) {
+          if (misses) ++*misses;
+          return m;  // not baked: transparent
+        }
+        m.radiance = V3f(rgba[0], rgba[1], rgba[2]);
+        m.transmittance = std::clamp(1.0f - rgba[3], 0.0f, 1.0f);
+        return m;
+      };
+}
+
+}  // namespace clothbake

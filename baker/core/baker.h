@@ -1,0 +1,60 @@
+#pragma once
+/// The baker: evaluates the reference renderer's march (Renderer::shade_surface)
+/// per texel of each quad and per view direction of a hemisphere grid, into a
+/// LookupTable that a renderer without volumes can apply (docs/lookup-format.md).
+///
+/// A full bake (every quad, every direction node of both sides, `texels` per
+/// quad side) serves any camera. An adaptive bake derives everything from the
+/// scene's camera: only quads the camera sees, texels from each quad's
+/// projected size, and only the direction nodes its view directions fall
+/// between (the four each bilinear lookup reads).
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/lookup_table.h"
+#include "core/renderer.h"
+
+namespace clothbake {
+
+struct BakeSettings {
+  int directions = 8;  ///< K: direction nodes per side of each hemisphere, [2, 64]
+  DirectionMap map = DirectionMap::Polar;  ///< node layout (docs/lookup-format.md, "Why polar")
+  int texels = 64;                         ///< texels per quad side in a full bake, [1, 4096]
+  int spp = 4;                             ///< jittered sub-texel samples per texel and direction
+  bool adaptive = false;                   ///< derive quads, texels and directions from the camera
+  float texels_per_pixel = 1.5f;  ///< adaptive: texels per projected pixel along a quad edge
+  int min_texels = 4, max_texels = 1024;  ///< adaptive: bounds on texels per quad side
+  int quad_begin = 0, quad_end = -1;      ///< bake quads [begin, end) only (-1: to the last)
+  uint64_t seed = 1;
+};
+
+/// What a bake computes, per object. Quads outside the subset or unseen have
+/// rect size 0; nodes not needed are not baked.
+struct BakePlan {
+  std::vector<LookupTable> objects;           ///< layout and baked flags filled, tiles empty
+  uint64_t texel_direction_samples = 0;       ///< texels x directions x spp to evaluate
+  uint64_t full_texel_direction_samples = 0;  ///< the same for a full bake at BakeSettings::texels
+  uint64_t baked_nodes = 0,
+           full_nodes = 0;               ///< direction tiles (quad x node) baked / in a full bake
+  uint64_t texels = 0, full_texels = 0;  ///< texels per direction, summed over quads
+};
+
+/// Plans the bake; throws InputError for settings out of range.
+BakePlan plan_bake(const Renderer& renderer, const BakeSettings& settings);
+
+/// Runs a plan: fills every planned texel of every planned node, then the
+/// gutters. Deterministic for any thread count. `progress(fraction)` is
+/// called serialised from workers.
+std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan,
+                                  const BakeSettings& settings,
+                                  const std::function<void(double)>& progress = {});
+
+/// The shader lookup-render uses: reads `tables` the way the Blender add-on
+/// does (bilinear texels, bilinear directions). Unbaked lookups read as
+/// transparent and are counted in `misses`.
+Renderer::HitShader lookup_shader(const Renderer& renderer, const std::vector<LookupTable>& tables,
+                                  std::atomic<uint64_t>* misses);
+
+}  // namespace clothbake
