@@ -26,7 +26,7 @@ namespace clothbake::cli {
 namespace {
 
 struct BakeArgs {
-  std::string scene, out_dir, quads, map = "polar";
+  std::string scene, out_dir, quads, map = "hemi-octahedral";
   BakeSettings settings;
   int threads = 0;
   bool quiet = false;

@@ -85,8 +85,9 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
     const int end = s.quad_end < 0 ? n_quads : std::min(s.quad_end, n_quads);
     if (s.quad_begin < 0 || s.quad_begin > n_quads || s.quad_begin >= end)
       throw InputError("--quads", "the range " + std::to_string(s.quad_begin) + "-" +
-                                      std::to_string(s.quad_end) + " selects no quad of the " +
-                                      std::to_string(n_quads));
+                                      std::to_string(s.quad_end - 1) + " selects no quad of the " +
+                                      std::to_string(n_quads) + " (numbered 0-" +
+                                      std::to_string(n_quads - 1) + ")");
     for (int q = 0; q < n_quads; ++q) {
       const QuadPatch& patch = renderer.patch(o, q);
       plan.full_nodes += nodes;

@@ -20,7 +20,7 @@ namespace clothbake {
 
 struct BakeSettings {
   int directions = 8;  ///< K: direction nodes per side of each hemisphere, [2, 64]
-  DirectionMap map = DirectionMap::Polar;  ///< node layout (docs/lookup-format.md, "Why polar")
+  DirectionMap map = DirectionMap::HemiOctahedral;  ///< node layout (docs/lookup-format.md)
   int texels = 64;                         ///< texels per quad side in a full bake, [1, 4096]
   int spp = 4;                             ///< jittered sub-texel samples per texel and direction
   bool adaptive = false;                   ///< derive quads, texels and directions from the camera

@@ -34,7 +34,7 @@ enum class DirectionMap {
 
 struct DirectionGrid {
   int k = 8;  ///< nodes per side of each hemisphere's square, >= 2
-  DirectionMap map = DirectionMap::Polar;
+  DirectionMap map = DirectionMap::HemiOctahedral;
 
   int nodes_per_side() const { return k * k; }
   /// Index of node (side, i, j): side * k * k + j * k + i.

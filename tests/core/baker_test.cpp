@@ -73,7 +73,9 @@ TEST(HemiOct, EncodeDecodeRoundTripAndNodesCoverTheHorizon) {
 // At node directions the lookup reproduces the march (the analytic slab
 // within 1%: 16 sub-texel samples of a march whose per-ray jitter noise is
 // ~1%); between nodes the error is the bilinear interpolation of a smooth
-// function of direction, bounded here by 3% at K = 9.
+// function of direction, bounded here by 3% at K = 9 on the polar map (the
+// slab's radiance depends on elevation only, which polar rows follow
+// exactly; tests/core/direction_grid_test.cpp measures both maps).
 TEST(PolarMap, NodesAndFootprintsWrapInAzimuth) {
   DirectionGrid g;
   g.k = 8;
@@ -98,6 +100,7 @@ TEST(Baker, FullBakeOfTheSlabMatchesTheClosedForm) {
   Renderer renderer(scene, k_budget);
   BakeSettings s;
   s.directions = 9;
+  s.map = DirectionMap::Polar;
   s.texels = 2;
   s.spp = 16;
   const BakePlan plan = plan_bake(renderer, s);

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The baked lookup against the reference renderer on a scene: an adaptive bake
+# (the scene's camera), rendered through the lookup with the add-on's
+# interpolation, must be as close to the render (seed 1) as a second render
+# with another seed (seed 2) is: PSNR(lookup, render1) >= PSNR(render2, render1),
+# over RGB with the render's maximum as the peak. The bound is measured, not
+# assumed: it is the render's own sampling noise at the scene's settings.
+set -eu
+exe=$1 scene=$2
+shift 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+dir=$(dirname "$scene")
+sed 's/"seed": *[0-9]*/"seed": 2/' "$scene" >"$dir/.bake_quality_seed2.json"
+trap 'rm -rf "$tmp" "$dir/.bake_quality_seed2.json"' EXIT
+"$exe" render "$scene" -o "$tmp/render1.exr" --quiet
+"$exe" render "$dir/.bake_quality_seed2.json" -o "$tmp/render2.exr" --quiet
+"$exe" bake "$scene" -o "$tmp/bake" --quiet "$@" >"$tmp/bake.json"
+"$exe" lookup-render "$scene" "$tmp/bake" -o "$tmp/lookup.exr" --quiet
+noise=$("$exe" compare "$tmp/render1.exr" "$tmp/render2.exr" --json | /usr/bin/python3 -c "import json,sys; print(json.load(sys.stdin)['psnr'])")
+bake=$("$exe" compare "$tmp/render1.exr" "$tmp/lookup.exr" --json | /usr/bin/python3 -c "import json,sys; print(json.load(sys.stdin)['psnr'])")
+echo "PSNR lookup-render vs render: $bake dB; render seed 2 vs seed 1 (the bound): $noise dB"
+/usr/bin/python3 -c "import sys; sys.exit(0 if float('$bake') >= float('$noise') else 1)"
