@@ -2,6 +2,7 @@
 // optionally a heat map, a JSON report and a pass/fail bound (for tests).
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -16,7 +17,7 @@ namespace clothbake::cli {
 
 namespace {
 struct CompareArgs {
-  std::string reference, test, heatmap;
+  std::string reference, test, heatmap, sheet;
   bool json = false;
   double threshold = 0.0;
   double max_relative_rmse = -1.0;
@@ -41,6 +42,12 @@ void run_compare(const CompareArgs& a) {
     throw e.in_file(a.test);
   }
   if (!a.heatmap.empty()) io::write_png(a.heatmap, io::error_heatmap(ref, tst), false);
+  if (!a.sheet.empty())
+    io::write_png(
+        a.sheet,
+        io::comparison_sheet(ref, tst, std::filesystem::path(a.reference).filename().string(),
+                             std::filesystem::path(a.test).filename().string(), d),
+        false);
   const nlohmann::json j = {{"reference", a.reference},
                             {"test", a.test},
                             {"rmse", d.rmse},
@@ -73,6 +80,8 @@ void register_compare_command(CLI::App& app) {
   cmd->add_option("reference", args->reference, "reference image")->required();
   cmd->add_option("test", args->test, "image to measure")->required();
   cmd->add_option("--heatmap", args->heatmap, "write |test - reference| as a heat map PNG");
+  cmd->add_option("--sheet", args->sheet,
+                  "write reference | test | heat map side by side as a PNG");
   cmd->add_flag("--json", args->json, "print the metrics as JSON");
   cmd->add_option("--threshold", args->threshold,
                   "absolute error counted as 'over' (default 1% of the reference peak)");

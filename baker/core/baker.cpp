@@ -98,12 +98,15 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
       if (!s.adaptive) {
         std::fill(flags, flags + nodes, 1);
       } else {
-        // Directions: where the camera sees the quad from, on a 9 x 9 grid of
-        // patch points; each marks the four nodes its lookup interpolates.
+        // Directions: where the camera sees the quad from, on a 33 x 33 grid
+        // of patch points (dense enough that no view direction between two
+        // of them falls into a direction cell neither reads); each marks the
+        // four nodes its lookup interpolates.
         bool seen = false;
-        for (int b = 0; b <= 8; ++b)
-          for (int a = 0; a <= 8; ++a) {
-            const float ps = a / 8.0f, pt = b / 8.0f;
+        constexpr int n = 32;
+        for (int b = 0; b <= n; ++b)
+          for (int a = 0; a <= n; ++a) {
+            const float ps = float(a) / n, pt = float(b) / n;
             const V3f p = patch.position_world(ps, pt);
             float x, y;
             if (!cam.project(p, x, y)) continue;

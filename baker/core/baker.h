@@ -21,9 +21,9 @@ namespace clothbake {
 struct BakeSettings {
   int directions = 8;  ///< K: direction nodes per side of each hemisphere, [2, 64]
   DirectionMap map = DirectionMap::HemiOctahedral;  ///< node layout (docs/lookup-format.md)
-  int texels = 64;                         ///< texels per quad side in a full bake, [1, 4096]
-  int spp = 4;                             ///< jittered sub-texel samples per texel and direction
-  bool adaptive = false;                   ///< derive quads, texels and directions from the camera
+  int texels = 64;                ///< texels per quad side in a full bake, [1, 4096]
+  int spp = 4;                    ///< jittered sub-texel samples per texel and direction
+  bool adaptive = false;          ///< derive quads, texels and directions from the camera
   float texels_per_pixel = 1.5f;  ///< adaptive: texels per projected pixel along a quad edge
   int min_texels = 4, max_texels = 1024;  ///< adaptive: bounds on texels per quad side
   int quad_begin = 0, quad_end = -1;      ///< bake quads [begin, end) only (-1: to the last)

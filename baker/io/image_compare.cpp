@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include <OpenImageIO/imagebuf.h>
@@ -88,6 +89,34 @@ Image error_heatmap(const Image& reference, const Image& test, double scale_max)
     }
   const double top = scale_max > 0.0 ? scale_max : (largest > 0.0 ? largest : 1.0);
   return color_map(err, "inferno", 0.0f, float(top));
+}
+
+Image comparison_sheet(const Image& reference, const Image& test,
+                       const std::string& reference_label, const std::string& test_label,
+                       const ImageDiff& d) {
+  const int w = reference.width, h = reference.height, strip = 24;
+  // Display-referred panels: both renders through the sRGB curve, the heat
+  // map as it is.
+  auto srgb = [](const Image& img) {
+    oiio::ImageBuf buf = rgb_buf(img);
+    buf = oiio::ImageBufAlgo::colorconvert(buf, "linear", "sRGB");
+    Image out(img.width, img.height, 3);
+    buf.get_pixels(oiio::ROI::All(), oiio::TypeDesc::FLOAT, out.pixels.data());
+    return out;
+  };
+  const Image panels[3] = {srgb(reference), srgb(test), error_heatmap(reference, test)};
+  Image sheet(3 * w, h + strip, 3);
+  for (int p = 0; p < 3; ++p)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) sheet.at(p * w + x, y + strip)[c] = panels[p].at(x, y)[c];
+  char stats[160];
+  std::snprintf(stats, sizeof stats, "|difference|: PSNR %.2f dB, rel. RMSE %.1f%%", d.psnr_db,
+                100.0 * d.relative_rmse);
+  draw_label(sheet, 6, 17, reference_label, 14);
+  draw_label(sheet, w + 6, 17, test_label, 14);
+  draw_label(sheet, 2 * w + 6, 17, stats, 14);
+  return sheet;
 }
 
 }  // namespace clothbake::io

@@ -36,4 +36,10 @@ ImageDiff compare_images(const Image& reference, const Image& test, double thres
 /// `scale_max` (<= 0: the largest error) is white-hot.
 Image error_heatmap(const Image& reference, const Image& test, double scale_max = 0.0);
 
+/// A comparison sheet for people: reference | test | heat map side by side
+/// (sRGB previews of the two images), each captioned.
+Image comparison_sheet(const Image& reference, const Image& test,
+                       const std::string& reference_label, const std::string& test_label,
+                       const ImageDiff& diff);
+
 }  // namespace clothbake::io

@@ -43,6 +43,9 @@ void write_exr(const std::string& path, const Image& image) {
   for (int c = 0; c < image.channels; ++c)
     spec.channelnames.emplace_back(image.channels <= 4 ? names4[c] : "C" + std::to_string(c));
   spec.attribute("compression", "zip");
+  // OpenImageIO would stamp the current time: leave it out so equal images
+  // give equal bytes.
+  spec.attribute("DateTime", "");
   write_buf(path, buf, oiio::TypeDesc::FLOAT);
 }
 

@@ -363,7 +363,7 @@ TEST_F(SceneJson, LoadsTheTestScenes) {
   EXPECT_EQ(paper.objects[0].cloth.pattern, "plain");
   EXPECT_GE(paper.lights.size(), 2u);
   EXPECT_EQ(paper.settings.fiber_model, FiberModelKind::Table);
-  EXPECT_EQ(paper.settings.transmittance, TransmittanceMode::Cached);
+  EXPECT_EQ(paper.settings.transmittance, TransmittanceMode::ShadowMarch);
   // load_cloth_spec of the scene gives the scene's cloth file.
   const ClothSpec from_scene = load_cloth_spec(CLOTHBAKE_SOURCE_DIR "/testscenes/paper/scene.json");
   EXPECT_FLOAT_EQ(from_scene.warp.spacing_mm, paper.objects[0].cloth.warp.spacing_mm);
