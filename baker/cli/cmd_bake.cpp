@@ -9,11 +9,11 @@
 #include <memory>
 #include <sstream>
 
-#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/thread_limit.h"
 #include "core/baker.h"
 #include "core/error.h"
 #include "io/lookup_io.h"
@@ -51,10 +51,7 @@ std::string mib(uint64_t bytes) {
 }
 
 void run_bake_command(BakeArgs args) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    args.threads);
+  const auto threads = limit_threads(args.threads);
   parse_quads(args.quads, args.settings);
   args.settings.map =
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <memory>
 
-#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "cli/thread_limit.h"
 #include "core/baker.h"
 #include "core/error.h"
 #include "io/image_io.h"
@@ -29,10 +29,7 @@ struct LookupRenderArgs {
 };
 
 void run_lookup_render(const LookupRenderArgs& args) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    args.threads);
+  const auto threads = limit_threads(args.threads);
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
   io::LookupInfo info;

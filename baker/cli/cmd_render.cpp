@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <memory>
 
-#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/thread_limit.h"
 #include "core/error.h"
 #include "core/renderer.h"
 #include "io/image_io.h"
@@ -32,10 +32,7 @@ struct RenderArgs {
 };
 
 void run_render(const RenderArgs& args) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    args.threads);
+  const auto threads = limit_threads(args.threads);
   const std::string ext = std::filesystem::path(args.out_exr).extension().string();
   if (ext != ".exr")
     throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");

@@ -7,11 +7,11 @@
 #include <fstream>
 #include <memory>
 
-#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/thread_limit.h"
 #include "core/error.h"
 #include "core/volume_generator.h"
 #include "core/volume_preview.h"
@@ -47,10 +47,7 @@ Image labelled(Image image, const std::string& text) {
 }
 
 void run_volume(const VolumeArgs& args) {
-  std::unique_ptr<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    args.threads);
+  const auto threads = limit_threads(args.threads);
   // Step 1: read and check everything before any output exists.
   const ClothSpec spec = io::load_cloth_spec(args.input);
   const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))

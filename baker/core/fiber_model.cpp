@@ -14,6 +14,7 @@
 // overshoot (r^2 > 1) is clamped onto the silhouette (discriminant 0).
 
 #include "core/fiber_model.h"
+#include "core/vector_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,25 +31,6 @@ constexpr float kPi = std::numbers::pi_v<float>;
 /// Largest aspect evaluated. The ends' effect falls as 1/aspect^2 (< 1e-8 here)
 /// while float rounding of the hit point grows as eps * aspect (~2e-5 here).
 constexpr float kMaxAspect = 1.0e4f;
-
-bool finite(const Imath::V3f& a) {
-  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
-
-/// Normalises `a`; returns false (and leaves `a` alone) for a zero vector. The
-/// vector is pre-scaled by its largest component so tiny and huge inputs work.
-bool normalize_safe(Imath::V3f& a) {
-  const float len2 = a.dot(a);
-  if (len2 > 1.0e-30f && len2 < 1.0e30f) {  // the usual case: no over/underflow
-    a *= 1.0f / std::sqrt(len2);
-    return true;
-  }
-  const float m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
-  if (!(m > 0.0f)) return false;
-  const Imath::V3f s = a * (1.0f / m);
-  a = s * (1.0f / std::sqrt(s.dot(s)));
-  return true;
-}
 
 /// Any unit vector perpendicular to unit `n` (Duff et al. 2017 branchless basis).
 Imath::V3f any_perpendicular(const Imath::V3f& n) {

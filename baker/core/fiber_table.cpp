@@ -15,6 +15,7 @@
 // and 4.4.49) are accurate to 2e-8 and 1e-5 rad, far below a bin (~0.065 rad).
 
 #include "core/fiber_table.h"
+#include "core/vector_math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -32,24 +33,6 @@ namespace clothbake {
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
-
-bool finite(const Imath::V3f& a) {
-  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
-
-/// Normalises `a` (pre-scaled by its largest component); false for a zero vector.
-bool normalize_safe(Imath::V3f& a) {
-  const float len2 = a.dot(a);
-  if (len2 > 1.0e-30f && len2 < 1.0e30f) {  // the usual case: no over/underflow
-    a *= 1.0f / std::sqrt(len2);
-    return true;
-  }
-  const float m = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
-  if (!(m > 0.0f)) return false;
-  const Imath::V3f s = a * (1.0f / m);
-  a = s * (1.0f / std::sqrt(s.dot(s)));
-  return true;
-}
 
 /// acos on [-1, 1], |error| <= 2e-8 rad (A&S 4.4.46), plus float rounding.
 float fast_acos(float x) {

@@ -9,8 +9,7 @@
 
 namespace clothbake::io {
 
-namespace {
-std::string type_name(const nlohmann::json& v) {
+std::string json_type_name(const nlohmann::json& v) {
   if (v.is_number()) return "a number";
   if (v.is_string()) return "a string";
   if (v.is_boolean()) return "a boolean";
@@ -18,6 +17,9 @@ std::string type_name(const nlohmann::json& v) {
   if (v.is_array()) return "an array";
   return "an object";
 }
+
+namespace {
+std::string type_name(const nlohmann::json& v) { return json_type_name(v); }
 
 // Line and column of a byte offset, for syntax errors a person can find.
 std::string line_col(const std::string& text, size_t byte) {

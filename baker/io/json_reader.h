@@ -13,6 +13,9 @@
 
 namespace clothbake::io {
 
+/// "a number", "a string", ... for messages about wrong types.
+std::string json_type_name(const nlohmann::json& value);
+
 /// Parses a JSON file. Errors name the file and, for syntax errors, the line
 /// and column. Throws InputError.
 nlohmann::json read_json_file(const std::string& path);

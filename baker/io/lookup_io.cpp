@@ -241,14 +241,7 @@ void write_manifest(const std::string& path, const json& manifest) {
 // ---------------------------------------------------------------------------
 // Reading
 
-std::string type_name(const json& v) {
-  if (v.is_number()) return "a number";
-  if (v.is_string()) return "a string";
-  if (v.is_boolean()) return "a boolean";
-  if (v.is_null()) return "null";
-  if (v.is_array()) return "an array";
-  return "an object";
-}
+std::string type_name(const json& v) { return json_type_name(v); }
 
 const json& required(const JsonObject& j, const char* key) {
   if (!j.has(key)) j.fail(j.field(key), "missing");
