@@ -1,0 +1,189 @@
+"""clothbake scene JSON (docs/scene-format.md) as the add-on needs it: read
+with clear errors, the camera and lights converted to Blender's
+conventions, and written back for export.
+
+clothbake's program is the authority on what a valid scene is; this reader
+checks what the add-on itself relies on (types and shapes), and leaves
+ranges to the program, which names the field when it refuses.
+"""
+import json
+import math
+import os
+
+from .errors import ClothbakeError
+
+CAMERA_DEFAULTS = {"position": [0.0, 0.0, 5.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0],
+                   "fov_deg": 40.0, "fov_axis": "horizontal", "resolution": [426, 266]}
+OBJECT_DEFAULTS = {"repeats_per_uv": 40.0, "thickness_world": 0.01, "extinction_per_mm": 40.0,
+                   "isotropic_albedo": [0.8, 0.8, 0.8]}
+RENDER_DEFAULTS = {"spp": 4}
+
+# Blender's point light: a lamp of power P watts has radiant intensity
+# P / (4 pi^2) W/sr in Cycles (the 1/pi of its emission normalisation times
+# the 1/(4 pi) of a sphere), so irradiance E at distance 1 facing it needs
+# P = 4 pi^2 E. Sun strength is irradiance already.
+POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi * math.pi
+
+
+def _vec(value, n, path, field):
+    if (not isinstance(value, list) or len(value) != n or
+            not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise ClothbakeError(f"must be an array of {n} numbers", path, field)
+    if not all(math.isfinite(v) for v in value):
+        raise ClothbakeError("must be finite", path, field)
+    return [float(v) for v in value]
+
+
+def _num(value, path, field):
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+        raise ClothbakeError("must be a finite number", path, field)
+    return float(value)
+
+
+def load_scene(path):
+    """Reads a scene file; returns a plain dict with defaults filled in and
+    mesh / cloth paths made absolute. Raises ClothbakeError."""
+    path = os.path.abspath(path)
+    try:
+        with open(path, encoding="utf-8") as f:
+            root = json.load(f)
+    except OSError as e:
+        raise ClothbakeError(f"cannot read the scene: {e.strerror}", path) from None
+    except json.JSONDecodeError as e:
+        raise ClothbakeError(f"invalid JSON: {e.msg}", path, f"line {e.lineno}") from None
+    if not isinstance(root, dict):
+        raise ClothbakeError("must be a JSON object", path)
+    folder = os.path.dirname(path)
+
+    cam_json = root.get("camera")
+    if not isinstance(cam_json, dict):
+        raise ClothbakeError("missing or not an object", path, "camera")
+    cam = dict(CAMERA_DEFAULTS)
+    cam.update(cam_json)
+    for key in ("position", "look_at", "up"):
+        cam[key] = _vec(cam[key], 3, path, f"camera.{key}")
+    cam["fov_deg"] = _num(cam["fov_deg"], path, "camera.fov_deg")
+    if cam["fov_axis"] not in ("horizontal", "vertical"):
+        raise ClothbakeError("must be 'horizontal' or 'vertical'", path, "camera.fov_axis")
+    res = cam["resolution"]
+    if (not isinstance(res, list) or len(res) != 2 or
+            not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in res)):
+        raise ClothbakeError("must be [width, height], integers >= 1", path, "camera.resolution")
+
+    lights = []
+    lights_json = root.get("lights")
+    if not isinstance(lights_json, list) or not lights_json:
+        raise ClothbakeError("must be a non-empty array", path, "lights")
+    for i, lj in enumerate(lights_json):
+        where = f"lights[{i}]"
+        if not isinstance(lj, dict) or lj.get("type") not in ("directional", "point"):
+            raise ClothbakeError("must be an object with type 'directional' or 'point'", path,
+                                 where + ".type")
+        light = {"type": lj["type"],
+                 "color": _vec(lj.get("color", [1.0, 1.0, 1.0]), 3, path, where + ".color"),
+                 "intensity": _num(lj.get("intensity", 1.0), path, where + ".intensity")}
+        if light["type"] == "directional":
+            light["direction"] = _vec(lj.get("direction"), 3, path, where + ".direction")
+        else:
+            light["position"] = _vec(lj.get("position"), 3, path, where + ".position")
+        lights.append(light)
+
+    objects = []
+    objects_json = root.get("objects")
+    if not isinstance(objects_json, list) or not objects_json:
+        raise ClothbakeError("must be a non-empty array", path, "objects")
+    for i, oj in enumerate(objects_json):
+        where = f"objects[{i}]"
+        if not isinstance(oj, dict):
+            raise ClothbakeError("must be an object", path, where)
+        obj = dict(OBJECT_DEFAULTS)
+        obj.update(oj)
+        obj["name"] = oj.get("name", where)
+        mesh = oj.get("mesh")
+        if not isinstance(mesh, str) or not mesh:
+            raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
+        obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
+        cloth = oj.get("cloth")
+        if isinstance(cloth, str):
+            obj["cloth_path"] = os.path.normpath(os.path.join(folder, cloth))
+        elif not isinstance(cloth, dict):
+            raise ClothbakeError("must be a cloth spec object or the path of one", path,
+                                 where + ".cloth")
+        for key in ("repeats_per_uv", "thickness_world", "extinction_per_mm"):
+            obj[key] = _num(obj[key], path, f"{where}.{key}")
+        objects.append(obj)
+
+    background = _vec(root.get("background", [0.0, 0.0, 0.0]), 3, path, "background")
+    render = dict(RENDER_DEFAULTS)
+    if isinstance(root.get("render"), dict):
+        render.update(root["render"])
+    return {"path": path, "name": root.get("name", os.path.basename(folder)), "camera": cam,
+            "lights": lights, "objects": objects, "background": background, "render": render,
+            "json": root}
+
+
+def _sub(a, b):
+    return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _normalized(a):
+    n = math.sqrt(sum(c * c for c in a))
+    return [c / n for c in a] if n > 0 else [0.0, 0.0, 0.0]
+
+
+def camera_basis(cam):
+    """(right, up, forward) unit vectors, as baker/core/camera.cpp builds them."""
+    forward = _normalized(_sub(cam["look_at"], cam["position"]))
+    right = _cross(forward, cam["up"])
+    if math.sqrt(sum(c * c for c in right)) <= 1e-6 * math.sqrt(sum(c * c for c in cam["up"])):
+        f = [abs(c) for c in forward]
+        axis = ([1.0, 0.0, 0.0] if f[0] <= f[1] and f[0] <= f[2] else
+                [0.0, 1.0, 0.0] if f[1] <= f[2] else [0.0, 0.0, 1.0])
+        right = _cross(forward, axis)
+    right = _normalized(right)
+    up = _cross(right, forward)
+    return right, up, forward
+
+
+def blender_camera(cam, sensor_mm=36.0):
+    """Blender camera settings that reproduce a clothbake pinhole camera.
+
+    Blender's camera looks along its local -Z with +Y up, so its world
+    matrix has columns (right, up, -forward). The field of view is matched
+    through the sensor size on the camera's fit axis: lens = sensor / 2 /
+    tan(fov / 2), sensor_fit HORIZONTAL or VERTICAL as fov_axis says.
+    Returns a dict: matrix (4x4 rows), lens, sensor_fit, sensor_width,
+    sensor_height, resolution.
+    """
+    right, up, forward = camera_basis(cam)
+    back = [-c for c in forward]
+    p = cam["position"]
+    matrix = [[right[r], up[r], back[r], p[r]] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+    fov = min(max(cam["fov_deg"], 1e-3), 180.0 - 1e-3) * math.pi / 180.0
+    lens = 0.5 * sensor_mm / math.tan(0.5 * fov)
+    fit = "HORIZONTAL" if cam["fov_axis"] == "horizontal" else "VERTICAL"
+    return {"matrix": matrix, "lens": lens, "sensor_fit": fit, "sensor_width": sensor_mm,
+            "sensor_height": sensor_mm, "resolution": list(cam["resolution"])}
+
+
+def blender_light(light):
+    """Blender light settings for a clothbake light: type, colour, energy
+    and (for a sun) the world matrix that points its -Z along `direction`."""
+    if light["type"] == "directional":
+        d = _normalized(light["direction"])
+        helper = [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0]
+        x = _normalized(_cross(helper, d))
+        y = _cross([-c for c in d], x)
+        z = [-c for c in d]
+        matrix = [[x[r], y[r], z[r], 0.0] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+        return {"type": "SUN", "color": light["color"], "energy": light["intensity"],
+                "matrix": matrix}
+    p = light["position"]
+    matrix = [[1.0, 0.0, 0.0, p[0]], [0.0, 1.0, 0.0, p[1]], [0.0, 0.0, 1.0, p[2]],
+              [0.0, 0.0, 0.0, 1.0]]
+    return {"type": "POINT", "color": light["color"],
+            "energy": light["intensity"] * POINT_WATTS_PER_IRRADIANCE, "matrix": matrix}
