@@ -2,10 +2,24 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 
 #include <unistd.h>
 
 namespace clothbake::io {
+
+namespace {
+
+/// Percent between two progress lines when stderr is not a terminal: 10, or
+/// 1 when the environment sets CLOTHBAKE_PROGRESS=lines (the Blender add-on
+/// reads these lines to drive its progress bar).
+int line_step_percent() {
+  const char* mode = std::getenv("CLOTHBAKE_PROGRESS");
+  return mode != nullptr && std::strcmp(mode, "lines") == 0 ? 1 : 10;
+}
+
+}  // namespace
 
 ProgressBar::ProgressBar(std::string label, bool quiet)
     : m_label(std::move(label)),
@@ -31,10 +45,11 @@ void ProgressBar::update(double fraction) {
                  "##############################", width - filled, "", percent, seconds);
     std::fflush(stderr);
   } else {
-    const int decile = percent / 10;
-    if (decile == m_last_shown) return;
-    m_last_shown = decile;
-    std::fprintf(stderr, "%s %3d%% %.1fs\n", m_label.c_str(), decile * 10, seconds);
+    static const int step = line_step_percent();
+    const int shown = percent / step;
+    if (shown == m_last_shown) return;
+    m_last_shown = shown;
+    std::fprintf(stderr, "%s %3d%% %.1fs\n", m_label.c_str(), shown * step, seconds);
   }
 }
 

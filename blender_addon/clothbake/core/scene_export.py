@@ -1,0 +1,384 @@
+"""Export: a clothbake scene (docs/scene-format.md) built from plain data
+(world matrices, lens and sensor, light energies, quad meshes), the inverse
+of clothbake.core.scene's blender_camera / blender_light, and written to
+disk atomically.
+
+Blender keeps floats as float32, so numbers that went through it come back
+a few ulps off ("0.7" as 0.699999988). Where the scene the Blender scene was
+imported from (the *hint*) says the same thing within SNAP_TOLERANCE, the
+hint's own numbers are written, so exporting an unchanged scene gives the
+numbers it was imported with (and the same scene hash for its lookup).
+"""
+import json
+import math
+import os
+import re
+
+from .cloth_fields import short_float
+from .errors import ClothbakeError
+from .obj import QuadMeshData, format_obj, read_obj
+from .scene import POINT_WATTS_PER_IRRADIANCE, camera_basis, load_scene
+
+RENDER_DEFAULTS = {"spp": 4, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
+                   "transmittance": "cached", "shading": "fiber", "cutoff": 0.001, "seed": 1}
+FIBER_MODELS = ("ellipsoid", "table", "kajiya-kay")
+TRANSMITTANCES = ("shadow-march", "cached")
+SHADINGS = ("fiber", "isotropic")
+OBJECT_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
+
+# Relative tolerance under which a number is taken to be the hint's number
+# back from float32 (float32 has 24 bits: relative steps of 6e-8).
+SNAP_TOLERANCE = 1e-6
+
+
+# Small vector helpers (lists of 3 floats).
+def _sub(a, b):
+    return [x - y for x, y in zip(a, b)]
+
+
+def _norm(a):
+    return math.sqrt(sum(c * c for c in a))
+
+
+def _normalized(a):
+    n = _norm(a)
+    return [c / n for c in a] if n > 0 else [0.0, 0.0, 0.0]
+
+
+def _close(a, b, tol=SNAP_TOLERANCE):
+    """Numbers or vectors equal within tol relative to their size (at least 1)."""
+    if isinstance(a, (int, float)):
+        return abs(a - b) <= tol * max(1.0, abs(a), abs(b))
+    return len(a) == len(b) and _norm(_sub(a, b)) <= tol * max(1.0, _norm(a), _norm(b))
+
+
+def _column(matrix, c):
+    return [float(matrix[r][c]) for r in range(3)]
+
+
+def _snap(value, hint):
+    """hint when value is hint back from float32, else value (float32 tidied)."""
+    if hint is not None and _close(value, hint):
+        return list(hint) if isinstance(hint, list) else hint
+    if isinstance(value, (int, float)):
+        return short_float(value)
+    return [short_float(c) for c in value]
+
+
+def camera_from_blender(matrix, lens, sensor_width, sensor_height, sensor_fit, resolution,
+                        hint=None, look_distance=1.0):
+    """The clothbake camera of a Blender perspective camera.
+
+    matrix: its 4x4 world matrix (rows; the camera looks along local -Z, +Y
+    up); lens, sensor_width, sensor_height in mm; sensor_fit "AUTO",
+    "HORIZONTAL" or "VERTICAL"; resolution [width, height] in pixels. The
+    field of view is the one Blender renders: AUTO fits sensor_width to the
+    larger image side. look_at is a point straight ahead, at the hint's
+    distance if there is a hint, else `look_distance`; up is the camera's
+    own up unless the hint's up gives the same image.
+    """
+    width, height = int(resolution[0]), int(resolution[1])
+    if sensor_fit == "AUTO":
+        axis, sensor = ("horizontal" if width >= height else "vertical"), sensor_width
+    elif sensor_fit == "HORIZONTAL":
+        axis, sensor = "horizontal", sensor_width
+    elif sensor_fit == "VERTICAL":
+        axis, sensor = "vertical", sensor_height
+    else:
+        raise ClothbakeError(f"unknown sensor fit '{sensor_fit}'", "", "camera")
+    if not lens > 0 or not sensor > 0:
+        raise ClothbakeError("lens and sensor size must be greater than 0", "", "camera")
+    fov_deg = math.degrees(2.0 * math.atan(0.5 * sensor / lens))
+
+    position = _column(matrix, 3)
+    forward = _normalized([-c for c in _column(matrix, 2)])
+    up = _normalized(_column(matrix, 1))
+    if _norm(forward) == 0 or _norm(up) == 0:
+        raise ClothbakeError("the camera's world matrix is singular", "", "camera")
+
+    if hint is not None and hint.get("fov_axis") == axis:
+        fov_deg = _snap(fov_deg, hint["fov_deg"])
+    else:
+        fov_deg = short_float(fov_deg)
+    look_at = None
+    if hint is not None:
+        hint_offset = _sub(hint["look_at"], hint["position"])
+        if _close(position, hint["position"]) and _close(forward, _normalized(hint_offset)):
+            position, look_at = list(hint["position"]), list(hint["look_at"])
+        else:
+            look_distance = _norm(hint_offset) or look_distance
+    if look_at is None:
+        position = [short_float(c) for c in position]
+        look_at = [p + look_distance * f for p, f in zip(position, forward)]
+    camera = {"position": position, "look_at": look_at, "up": up, "fov_deg": fov_deg,
+              "fov_axis": axis, "resolution": [width, height]}
+    if hint is not None:
+        try:
+            _, hint_up, _ = camera_basis(dict(camera, up=hint["up"]))
+            if _close(hint_up, up):
+                camera["up"] = list(hint["up"])
+        except (ZeroDivisionError, ValueError):
+            pass
+    return camera
+
+
+def light_from_blender(name, light_type, matrix, color, energy, hint=None):
+    """The clothbake light of a Blender light: SUN -> directional (travelling
+    along the light's -Z, irradiance = strength), POINT -> point (irradiance
+    at distance 1 = watts / POINT_WATTS_PER_IRRADIANCE). Other types are
+    refused, naming the light."""
+    if hint is not None and hint.get("type") != {"SUN": "directional",
+                                                 "POINT": "point"}.get(light_type):
+        hint = None
+    color = _snap([float(c) for c in color], hint["color"] if hint else None)
+    if light_type == "SUN":
+        direction = _normalized([-c for c in _column(matrix, 2)])
+        if _norm(direction) == 0:
+            raise ClothbakeError("the light's world matrix is singular", "", f"light '{name}'")
+        if hint is not None and _close(direction, _normalized(hint["direction"])):
+            direction = list(hint["direction"])
+        intensity = _snap(float(energy), hint["intensity"] if hint else None)
+        return {"type": "directional", "direction": direction, "color": color,
+                "intensity": intensity}
+    if light_type == "POINT":
+        position = _snap(_column(matrix, 3), hint["position"] if hint else None)
+        intensity = float(energy) / POINT_WATTS_PER_IRRADIANCE
+        if hint is not None and _close(intensity, hint["intensity"]):
+            intensity = hint["intensity"]
+        return {"type": "point", "position": position, "color": color, "intensity": intensity}
+    raise ClothbakeError(f"{light_type.lower()} lights are not supported; clothbake has sun "
+                         "(directional) and point lights", "", f"light '{name}'")
+
+
+def quad_mesh(name, positions, faces, face_uvs):
+    """QuadMeshData of a mesh given as positions (world), faces (vertex
+    indices per face, in corner order) and face_uvs (per face, one (u, v)
+    per corner; None when the mesh has no UV map). Faces and corners keep
+    their order (face q is the lookup's quad q). Raises ClothbakeError
+    naming the object and the first face that is not a quad."""
+    where = f"object '{name}'"
+    bad = [i for i, f in enumerate(faces) if len(f) != 4]
+    if bad:
+        more = f" ({len(bad)} of {len(faces)} faces are not quads)" if len(bad) > 1 else ""
+        raise ClothbakeError(f"face {bad[0]} has {len(faces[bad[0]])} corners{more}; clothbake "
+                             "needs quads (4 corners)", "", where)
+    if not faces:
+        raise ClothbakeError("the mesh has no faces", "", where)
+    if face_uvs is None:
+        raise ClothbakeError("the mesh has no UV map; the weave follows the UVs", "", where)
+    mesh = QuadMeshData(positions=[tuple(float(c) for c in p) for p in positions])
+    uv_index = {}
+    for face, uvs in zip(faces, face_uvs):
+        ts = []
+        for uv in uvs:
+            key = (float(uv[0]), float(uv[1]))
+            if key not in uv_index:
+                uv_index[key] = len(mesh.uvs)
+                mesh.uvs.append(key)
+            ts.append(uv_index[key])
+        mesh.quads.append((tuple(int(p) for p in face), tuple(ts)))
+    return mesh
+
+
+def render_settings(values=None):
+    """The scene's `render` block: RENDER_DEFAULTS with `values` over them."""
+    render = dict(RENDER_DEFAULTS)
+    for key, value in (values or {}).items():
+        if key not in RENDER_DEFAULTS:
+            raise ClothbakeError(f"unknown render setting '{key}'", "", "render")
+        render[key] = value
+    for key in ("step_cells", "cutoff"):
+        render[key] = short_float(render[key])
+    for key in ("spp", "fiber_samples", "seed"):
+        render[key] = int(render[key])
+    return render
+
+
+def build_scene(camera, lights, objects, background, render=None, name=None, description=None):
+    """The scene model export writes: camera and lights as clothbake dicts
+    (camera_from_blender, light_from_blender), objects as dicts with name,
+    mesh (QuadMeshData, world space), cloth (absolute path of a spec file, or
+    a spec dict), repeats_per_uv, thickness_world, extinction_per_mm and
+    optionally isotropic_albedo; background linear RGB."""
+    if not lights:
+        raise ClothbakeError("a clothbake scene needs at least one sun or point light", "",
+                             "lights")
+    if not objects:
+        raise ClothbakeError("a clothbake scene needs at least one cloth object", "", "objects")
+    out_objects = []
+    for o in objects:
+        cloth = o["cloth"]
+        if isinstance(cloth, str):
+            cloth = os.path.abspath(cloth)
+        elif not isinstance(cloth, dict):
+            raise ClothbakeError("cloth must be a spec dict or the path of a spec file", "",
+                                 f"object '{o['name']}'")
+        entry = {"name": o["name"], "mesh": o["mesh"], "cloth": cloth}
+        for key in OBJECT_KEYS:
+            entry[key] = short_float(o[key])
+        if o.get("isotropic_albedo") is not None:
+            entry["isotropic_albedo"] = [short_float(c) for c in o["isotropic_albedo"]]
+        out_objects.append(entry)
+    model = {"camera": camera, "lights": lights, "objects": out_objects,
+             "background": [short_float(c) for c in background],
+             "render": render_settings(render)}
+    if name:
+        model["name"] = name
+    if description:
+        model["description"] = description
+    return model
+
+
+def mesh_filenames(model):
+    """One OBJ file name per object, from its name, unique within the scene."""
+    names, used = [], set()
+    for o in model["objects"]:
+        stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", o["name"]).strip("._") or "object"
+        candidate, n = f"{stem}.obj", 1
+        while candidate.lower() in used:
+            n += 1
+            candidate = f"{stem}_{n}.obj"
+        used.add(candidate.lower())
+        names.append(candidate)
+    return names
+
+
+def scene_json(model, scene_path):
+    """The JSON dict of `model` for a scene file at `scene_path`: meshes and
+    cloth spec files referred to relative to its folder."""
+    folder = os.path.dirname(os.path.abspath(scene_path))
+    root = {}
+    for key in ("name", "description"):
+        if key in model:
+            root[key] = model[key]
+    root["camera"] = model["camera"]
+    root["lights"] = model["lights"]
+    objects = []
+    for o, filename in zip(model["objects"], mesh_filenames(model)):
+        entry = dict(o)
+        entry["mesh"] = filename
+        if isinstance(o["cloth"], str):
+            try:
+                entry["cloth"] = os.path.relpath(o["cloth"], folder)
+            except ValueError:  # another drive
+                entry["cloth"] = o["cloth"]
+        objects.append(entry)
+    root["objects"] = objects
+    root["background"] = model["background"]
+    root["render"] = model["render"]
+    return root
+
+
+def _write_atomic(path, text):
+    tmp = f"{path}.tmp-{os.getpid()}"
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as e:
+        try:
+            os.remove(tmp)
+        except OSError:
+            pass
+        raise ClothbakeError(f"cannot write: {e.strerror}", path) from None
+
+
+def write_scene(model, scene_path):
+    """Writes the scene file and one OBJ per object beside it (an existing
+    OBJ of the same name is replaced). Each file goes to a temporary name and
+    is renamed into place, meshes first, so the scene file never refers to a
+    missing or half-written mesh. Returns the absolute scene path."""
+    scene_path = os.path.abspath(scene_path)
+    folder = os.path.dirname(scene_path)
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        raise ClothbakeError(f"cannot create the folder: {e.strerror}", folder) from None
+    for o, filename in zip(model["objects"], mesh_filenames(model)):
+        _write_atomic(os.path.join(folder, filename),
+                      format_obj(o["mesh"], f"clothbake object '{o['name']}', written by the "
+                                             "clothbake Blender add-on"))
+    _write_atomic(scene_path, json.dumps(scene_json(model, scene_path), indent=2) + "\n")
+    return scene_path
+
+
+def _same_cloth(a, b):
+    def as_dict(c):
+        if isinstance(c, dict):
+            return c
+        try:
+            with open(c, encoding="utf-8") as f:
+                return json.load(f)
+        except (OSError, ValueError):
+            return None
+    if isinstance(a, str) and isinstance(b, str) and os.path.abspath(a) == os.path.abspath(b):
+        return True
+    da, db = as_dict(a), as_dict(b)
+    return da is not None and da == db
+
+
+def _same_mesh(a, b, tol):
+    if len(a.quads) != len(b.quads):
+        return False
+    for (pa, ta), (pb, tb) in zip(a.quads, b.quads):
+        for i in range(4):
+            if not _close(list(a.positions[pa[i]]), list(b.positions[pb[i]]), tol):
+                return False
+            if not _close(list(a.uvs[ta[i]]), list(b.uvs[tb[i]]), tol):
+                return False
+    return True
+
+
+def _same_light(a, b, tol):
+    if a["type"] != b["type"] or not _close(a["color"], b["color"], tol) or \
+            not _close(a["intensity"], b["intensity"], tol):
+        return False
+    if a["type"] == "directional":
+        return _close(_normalized(a["direction"]), _normalized(b["direction"]), tol)
+    return _close(a["position"], b["position"], tol)
+
+
+def same_camera(a, b, tol=SNAP_TOLERANCE):
+    """Whether two clothbake cameras give the same image."""
+    if a["fov_axis"] != b["fov_axis"] or list(a["resolution"]) != list(b["resolution"]):
+        return False
+    if not _close(a["fov_deg"], b["fov_deg"], tol) or not _close(a["position"], b["position"], tol):
+        return False
+    return all(_close(x, y, tol) for x, y in zip(camera_basis(a), camera_basis(b)))
+
+
+def scene_matches_file(model, path, tol=SNAP_TOLERANCE):
+    """Whether the scene file at `path` describes `model` (same camera image,
+    lights, objects, meshes within tol, cloth, background and render
+    settings), so baking that file is baking this scene. False when the file
+    cannot be read."""
+    try:
+        other = load_scene(path)
+        other_meshes = [read_obj(o["mesh_path"]) for o in other["objects"]]
+    except ClothbakeError:
+        return False
+    if not same_camera(model["camera"], other["camera"], tol):
+        return False
+    if len(model["lights"]) != len(other["lights"]) or not all(
+            _same_light(a, b, tol) for a, b in zip(model["lights"], other["lights"])):
+        return False
+    if len(model["objects"]) != len(other["objects"]):
+        return False
+    for o, p, mesh in zip(model["objects"], other["objects"], other_meshes):
+        if o["name"] != p["name"] or not all(_close(o[k], p[k], tol) for k in OBJECT_KEYS):
+            return False
+        albedo = o.get("isotropic_albedo") or [0.8, 0.8, 0.8]
+        if not _close(albedo, p["isotropic_albedo"], tol):
+            return False
+        if not _same_cloth(o["cloth"], p.get("cloth_path", p.get("cloth"))):
+            return False
+        if not _same_mesh(o["mesh"], mesh, tol):
+            return False
+    if not _close(model["background"], other["background"], tol):
+        return False
+    try:
+        other_render = render_settings(other["json"].get("render") or {})
+    except ClothbakeError:
+        return False
+    return all(_close(v, other_render[k], tol) if isinstance(v, float) else v == other_render[k]
+               for k, v in model["render"].items())
