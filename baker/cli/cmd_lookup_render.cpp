@@ -25,6 +25,7 @@ namespace {
 struct LookupRenderArgs {
   std::string scene, bake_dir, out_exr, out_png;
   int spp = 0, threads = 0;
+  long long seed = -1;
   bool quiet = false;
 };
 
@@ -35,6 +36,9 @@ void run_lookup_render(const LookupRenderArgs& args) {
   io::LookupInfo info;
   const std::vector<LookupTable> tables =
       io::read_lookup(args.bake_dir, info, io::scene_fingerprint(scene));
+  // The pixel-sampling seed only: set after the lookup's scene check, since
+  // the scene's seed is part of the hash (it seeds the bake's jitter too).
+  if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;
   try {
     renderer = std::make_unique<Renderer>(scene, io::default_memory_budget_bytes());
@@ -71,6 +75,9 @@ void register_lookup_render_command(CLI::App& app) {
   cmd->add_option("--png", args->out_png, "also write an sRGB PNG preview");
   cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene)")
       ->check(CLI::Range(1, 65536));
+  cmd->add_option("--seed", args->seed,
+                  "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");

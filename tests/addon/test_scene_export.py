@@ -7,7 +7,6 @@ refuses what clothbake cannot take (non-quads) naming object and face.
 import json
 import math
 import os
-import shutil
 import struct
 import subprocess
 import sys
@@ -233,17 +232,11 @@ def test_mesh_filenames_are_unique_and_safe():
     assert se.mesh_filenames(model) == ["a_b.obj", "a_b_2.obj", "x.obj", "object.obj"]
 
 
-def clothbake_exe():
-    exe = os.environ.get("CLOTHBAKE_EXE", os.path.join(ROOT, "build", "baker", "clothbake"))
-    return exe if os.access(exe, os.X_OK) else shutil.which("clothbake")
-
-
-@pytest.mark.skipif(clothbake_exe() is None, reason="clothbake program not built")
-def test_clothbake_accepts_the_export(tmp_path):
+def test_clothbake_accepts_the_export(tmp_path, clothbake_bin):
     model = model_of(SLAB)
     model["render"]["spp"] = 1
     out = se.write_scene(model, tmp_path / "scene.json")
-    run = subprocess.run([clothbake_exe(), "render", out, "-o", str(tmp_path / "r.exr"),
+    run = subprocess.run([clothbake_bin, "render", out, "-o", str(tmp_path / "r.exr"),
                           "--quiet", "--threads", "1"], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert os.path.getsize(tmp_path / "r.exr") > 0

@@ -1,0 +1,85 @@
+"""The add-on's manifest reader: a real bake reads; each broken manifest is
+refused with the file and field named (the same checks as clothbake's own
+reader, docs/lookup-format.md "Checks a reader makes")."""
+import json
+import os
+import shutil
+import subprocess
+
+import pytest
+
+from clothbake.core.errors import ClothbakeError
+from clothbake.core.manifest import read_manifest
+
+
+@pytest.fixture(scope="module")
+def slab_bake(tmp_path_factory, request):
+    source = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+    binary = os.environ.get("CLOTHBAKE_BIN", os.path.join(source, "build", "baker", "clothbake"))
+    out = tmp_path_factory.mktemp("bake") / "slab"
+    subprocess.run([binary, "bake", os.path.join(source, "testscenes", "slab", "scene.json"),
+                    "-o", str(out), "--directions", "3", "--texels", "4", "--spp", "1", "--quiet"],
+                   check=True, stdout=subprocess.DEVNULL)
+    return out
+
+
+def test_reads_a_real_bake(slab_bake):
+    lookup = read_manifest(slab_bake)
+    assert lookup.k == 3 and lookup.direction_map == "hemi-octahedral"
+    (obj,) = lookup.objects
+    assert obj.quads == 1 and len(obj.rects) == 1 and obj.rects[0][2] == 4
+    assert obj.baked[0] == "1" * 18
+    assert obj.atlas_size(3) == (3 * obj.tile_width, 3 * obj.tile_height)
+    assert os.path.isfile(obj.files["front"]) and os.path.isfile(obj.files["back"])
+
+
+def broken(slab_bake, tmp_path, edit):
+    folder = tmp_path / "broken"
+    shutil.copytree(slab_bake, folder)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    edit(manifest, folder)
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+    return folder
+
+
+CASES = [
+    ("format", lambda m, f: m.update(format="other"), "format: not a clothbake lookup"),
+    ("version", lambda m, f: m.update(version=2),
+     "version: this lookup has format version 2; this add-on reads version 1"),
+    ("k", lambda m, f: m["direction_map"].update(k=65), "direction_map.k: must be in [2, 64], got 65"),
+    ("map", lambda m, f: m["direction_map"].update(type="cube"),
+     "direction_map.type: unknown direction map 'cube'"),
+    ("rects", lambda m, f: m["objects"][0]["rects"].append([0, 0, 1]),
+     "objects[0].rects: has 2 entries, expected one per quad (1)"),
+    ("rect outside", lambda m, f: m["objects"][0]["rects"].__setitem__(0, [1000, 0, 4]),
+     "objects[0].rects[0]: square [1000, 0, 4] lies outside"),
+    ("flags", lambda m, f: m["objects"][0]["baked"].__setitem__(0, "10"),
+     "objects[0].baked[0]: must be a string of 18 characters '0' or '1'"),
+    ("tile type", lambda m, f: m["objects"][0].update(tile="big"),
+     "objects[0].tile: must be list"),
+    ("no file", lambda m, f: m["objects"][0]["files"].update(front=None),
+     "objects[0].files.front: the front side has baked nodes but no file"),
+    ("path in name", lambda m, f: m["objects"][0]["files"].update(front="../x.exr"),
+     "objects[0].files.front: must be a file name in the lookup folder"),
+    ("missing image", lambda m, f: os.remove(f / m["objects"][0]["files"]["back"]),
+     "the lookup image is missing"),
+    ("hash", lambda m, f: m.update(scene_hash="XYZ"), "scene_hash: must be 16 lowercase hex digits"),
+    ("missing key", lambda m, f: m.pop("objects"), "objects: missing key"),
+]
+
+
+@pytest.mark.parametrize("name,edit,message", CASES, ids=[c[0] for c in CASES])
+def test_refuses_broken_manifests(slab_bake, tmp_path, name, edit, message):
+    folder = broken(slab_bake, tmp_path, edit)
+    with pytest.raises(ClothbakeError) as err:
+        read_manifest(folder)
+    assert message in str(err.value)
+    assert str(folder) in str(err.value)
+
+
+def test_refuses_invalid_json_and_missing_folder(tmp_path):
+    (tmp_path / "manifest.json").write_text("{\"format\": ")
+    with pytest.raises(ClothbakeError, match=r"manifest.json: line 1: invalid JSON"):
+        read_manifest(tmp_path)
+    with pytest.raises(ClothbakeError, match="no such lookup folder"):
+        read_manifest(tmp_path / "nope")
