@@ -1,0 +1,152 @@
+"""The clothbake panel (Properties > Object > clothbake) and the File >
+Import / Export menu entries."""
+import bpy
+
+from ..core.cloth_fields import DRAFT
+from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_compare,
+                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene)
+
+
+class _ObjectPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "object"
+
+    @classmethod
+    def poll(cls, context):
+        return context.object is not None and context.object.type == "MESH"
+
+
+class CLOTHBAKE_PT_object(_ObjectPanel, bpy.types.Panel):
+    bl_label = "clothbake"
+
+    def draw_header(self, context):
+        self.layout.prop(context.object.clothbake, "is_cloth", text="")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        cloth = context.object.clothbake
+        if not cloth.is_cloth:
+            layout.label(text="Tick the box to make this quad mesh a clothbake cloth",
+                         icon="INFO")
+            return
+        col = layout.column()
+        col.prop(cloth, "repeats_per_uv")
+        col.prop(cloth, "thickness_world")
+        col.prop(cloth, "extinction_per_mm")
+        col.prop(cloth, "lookup_dir")
+
+
+class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
+    bl_label = "Cloth"
+    bl_parent_id = "CLOTHBAKE_PT_object"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.object.clothbake.is_cloth
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        cloth = context.object.clothbake
+        layout.prop(cloth, "cloth_path")
+        if cloth.cloth_path:
+            layout.label(text="Edited: exported inline" if cloth.cloth_edited
+                         else "Exported as a reference to the file",
+                         icon="GREASEPENCIL" if cloth.cloth_edited else "LINKED")
+        layout.prop(cloth, "weave")
+        if cloth.weave == DRAFT:
+            layout.label(text="Draft from the spec file", icon="INFO")
+        for family in ("warp", "weft"):
+            col = layout.column(heading=family.capitalize(), align=True)
+            col.prop(cloth, f"{family}_color", text=f"{family.capitalize()} colour")
+            col.prop(cloth, f"{family}_spacing_mm", text="Spacing (mm)")
+            col.prop(cloth, f"{family}_width_mm", text="Width (mm)")
+            col.prop(cloth, f"{family}_thickness_mm", text="Thickness (mm)")
+            col.prop(cloth, f"{family}_twist_deg", text="Ply twist (deg)")
+            col.prop(cloth, f"{family}_ply_pitch_mm", text="Ply pitch (mm)")
+        col = layout.column(align=True)
+        col.prop(cloth, "crimp")
+        col.prop(cloth, "angle_spread_deg")
+        col.prop(cloth, "seed")
+        col = layout.column(heading="Cells", align=True)
+        col.prop(cloth, "cells_x", text="X")
+        col.prop(cloth, "cells_y", text="Y")
+        col.prop(cloth, "layers")
+        col.prop(cloth, "supersample")
+        if context.scene.clothbake.shading == "isotropic":
+            layout.prop(cloth, "isotropic_albedo")
+
+
+class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
+    bl_label = "Bake"
+    bl_parent_id = "CLOTHBAKE_PT_object"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.clothbake
+        col = layout.column()
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.prop(settings, "scene_path")
+        col.prop(settings, "bake_dir")
+        col.prop(settings, "adaptive")
+        col.prop(settings, "directions")
+        if settings.adaptive:
+            col.prop(settings, "texels_per_pixel")
+        else:
+            col.prop(settings, "texels")
+        col.prop(settings, "bake_spp")
+        col.prop(settings, "compare_samples")
+        row = layout.row(align=True)
+        row.scale_y = 1.4
+        sub = row.row(align=True)
+        sub.enabled = not settings.bake_running
+        sub.operator(CLOTHBAKE_OT_bake.bl_idname, icon="RENDER_STILL")
+        row.operator(CLOTHBAKE_OT_apply.bl_idname, icon="MATERIAL")
+        row.operator(CLOTHBAKE_OT_compare.bl_idname, icon="IMAGE_REFERENCE")
+        if settings.bake_running:
+            layout.prop(settings, "bake_progress", text="Baking (Esc cancels)", slider=True)
+        if settings.bake_status:
+            layout.label(text="Bake: " + settings.bake_status)
+        if settings.compare_status:
+            layout.label(text="Compare: " + settings.compare_status)
+
+
+class CLOTHBAKE_PT_reference(_ObjectPanel, bpy.types.Panel):
+    bl_label = "Reference render settings"
+    bl_parent_id = "CLOTHBAKE_PT_object"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        settings = context.scene.clothbake
+        for prop in ("render_spp", "step_cells", "fiber_model", "fiber_samples", "transmittance",
+                     "shading", "cutoff", "render_seed"):
+            layout.prop(settings, prop)
+
+
+def _menu_import(self, context):
+    self.layout.operator(CLOTHBAKE_OT_import_scene.bl_idname, text="clothbake scene (.json)")
+
+
+def _menu_export(self, context):
+    self.layout.operator(CLOTHBAKE_OT_export_scene.bl_idname, text="clothbake scene (.json)")
+
+
+CLASSES = (CLOTHBAKE_PT_object, CLOTHBAKE_PT_cloth, CLOTHBAKE_PT_bake, CLOTHBAKE_PT_reference)
+
+
+def register_extra():
+    bpy.types.TOPBAR_MT_file_import.append(_menu_import)
+    bpy.types.TOPBAR_MT_file_export.append(_menu_export)
+
+
+def unregister_extra():
+    bpy.types.TOPBAR_MT_file_export.remove(_menu_export)
+    bpy.types.TOPBAR_MT_file_import.remove(_menu_import)

@@ -1,0 +1,304 @@
+"""The settings an artist edits: per object (`obj.clothbake`: the cloth and
+how it sits on the mesh) and per scene (`scene.clothbake`: files, bake,
+comparison and the reference renderer's settings).
+
+Cloth spec files. An object imported from a scene whose cloth is a file
+keeps that path (`cloth_path`) and shows the file's values in the fields.
+Export refers to the file as long as no field is edited; once one is
+(`cloth_edited`), export writes the cloth inline: the file's spec with the
+fields written over it, so what the panel does not show (density, shading,
+an explicit draft) is kept. Picking another file reloads the fields from it.
+"""
+import json
+import os
+
+import bpy
+
+from ..core import cloth_fields
+from ..core.errors import ClothbakeError
+from ..core.scene_export import FIBER_MODELS, RENDER_DEFAULTS, SHADINGS, TRANSMITTANCES
+
+_loading = False  # true while fields are filled from a spec: not an edit
+
+
+def _mark_edited(self, context):
+    if not _loading:
+        self.cloth_edited = True
+
+
+def _cloth_path_changed(self, context):
+    if _loading or not self.cloth_path:
+        return
+    try:
+        self.load_cloth_file(self.cloth_path)
+    except ClothbakeError:
+        pass  # export refers to the path; clothbake names the problem when it reads it
+
+
+def read_cloth_file(path):
+    """The spec dict of a cloth spec file; raises ClothbakeError."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            spec = json.load(f)
+    except OSError as e:
+        raise ClothbakeError(f"cannot read the cloth spec: {e.strerror}", path) from None
+    except json.JSONDecodeError as e:
+        raise ClothbakeError(f"invalid JSON: {e.msg}", path, f"line {e.lineno}") from None
+    cloth_fields.fields_from_spec(spec, path)  # checks what the fields need
+    return spec
+
+
+_WEAVE_ITEMS = [
+    ("plain", "Plain", "Plain weave (1 up, 1 down)"),
+    ("twill_2_1", "Twill 2/1", "Twill, 2 up 1 down"),
+    ("twill_2_2", "Twill 2/2", "Twill, 2 up 2 down"),
+    ("satin_5", "Satin 5", "5-harness satin"),
+    ("satin_8", "Satin 8", "8-harness satin"),
+    ("basket_2x2", "Basket 2x2", "Basket weave, pairs of yarns"),
+    ("uniform", "Uniform slab", "A homogeneous slab (for analytic checks)"),
+    (cloth_fields.DRAFT, "Explicit draft", "The draft matrix of the cloth spec file"),
+]
+
+
+def _float(name, default, lo, hi, desc, unit="NONE", step=1, precision=3):
+    return bpy.props.FloatProperty(name=name, default=default, min=lo, max=hi, description=desc,
+                                   update=_mark_edited, step=step, precision=precision)
+
+
+def _yarn(family, default_color):
+    F = family.capitalize()
+    return {
+        f"{family}_spacing_mm": _float(f"{F} spacing (mm)", 0.5, 1e-4, 100.0,
+                                       "Distance between neighbouring yarn centres"),
+        f"{family}_width_mm": _float(f"{F} width (mm)", 0.44, 1e-4, 200.0,
+                                     "Full width of the yarn's cross-section (at most 2 x spacing)"),
+        f"{family}_thickness_mm": _float(f"{F} thickness (mm)", 0.18, 1e-4, 100.0,
+                                         "Full height of the yarn's cross-section"),
+        f"{family}_color": bpy.props.FloatVectorProperty(
+            name=f"{F} colour", subtype="COLOR", size=3, min=0.0, max=1.0,
+            default=default_color, update=_mark_edited,
+            description="Diffuse albedo of the fibres, linear RGB"),
+        f"{family}_twist_deg": _float(f"{F} ply twist (deg)", 28.0, 0.0, 89.0,
+                                      "Angle of the fibres to the yarn axis", step=100, precision=1),
+        f"{family}_ply_pitch_mm": _float(f"{F} ply pitch (mm)", 1.0, 1e-4, 1000.0,
+                                         "Yarn length of one full turn of the two bundles"),
+    }
+
+
+class ClothbakeObjectSettings(bpy.types.PropertyGroup):
+    """obj.clothbake: one cloth object of a clothbake scene."""
+    __annotations__ = {
+        "is_cloth": bpy.props.BoolProperty(
+            name="Cloth", default=False,
+            description="Export this mesh as a clothbake cloth object (quads with UVs)"),
+        "cloth_path": bpy.props.StringProperty(
+            name="Cloth spec file", subtype="FILE_PATH", update=_cloth_path_changed,
+            description="Cloth spec JSON this cloth came from; export refers to it until a "
+                        "field below is edited, then writes the cloth inline"),
+        "cloth_base": bpy.props.StringProperty(
+            name="Base spec", options={"HIDDEN"},
+            description="JSON of the spec the fields came from (kept for the keys the panel "
+                        "does not show)"),
+        "cloth_edited": bpy.props.BoolProperty(
+            name="Edited", default=False,
+            description="A field differs from the cloth spec file: export writes the cloth "
+                        "inline"),
+        "weave": bpy.props.EnumProperty(name="Weave", items=_WEAVE_ITEMS, default="plain",
+                                        update=_mark_edited),
+        **_yarn("warp", (0.60, 0.09, 0.08)),
+        **_yarn("weft", (0.55, 0.42, 0.10)),
+        "crimp": _float("Crimp", 1.0, 0.0, 2.0,
+                        "Over/under amplitude; 1 = the yarns just touch at crossings, 0 = flat"),
+        "angle_spread_deg": _float("Fibre spread (deg)", 6.0, 0.0, 45.0,
+                                   "Standard deviation of the random fibre-direction "
+                                   "perturbation", step=100, precision=1),
+        "seed": bpy.props.IntProperty(name="Seed", default=1, min=0, update=_mark_edited,
+                                      description="Seeds every random choice of the volume"),
+        "cells_x": bpy.props.IntProperty(name="Cells x", default=64, min=1, soft_max=512,
+                                         update=_mark_edited,
+                                         description="Cells across one repeat along x (weft)"),
+        "cells_y": bpy.props.IntProperty(name="Cells y", default=64, min=1, soft_max=512,
+                                         update=_mark_edited,
+                                         description="Cells across one repeat along y (warp)"),
+        "layers": bpy.props.IntProperty(name="Layers", default=16, min=1, soft_max=128,
+                                        update=_mark_edited,
+                                        description="Cells through the cloth's thickness"),
+        "supersample": bpy.props.IntProperty(name="Supersample", default=2, min=1, max=8,
+                                             update=_mark_edited,
+                                             description="Density averages s^3 sub-cell points"),
+        "repeats_per_uv": bpy.props.FloatProperty(
+            name="Repeats per UV", default=40.0, min=1e-6,
+            description="Weave repeats per unit of UV, in u and in v"),
+        "thickness_world": bpy.props.FloatProperty(
+            name="Thickness", default=0.01, min=1e-9, precision=4, subtype="DISTANCE",
+            description="Depth of the cloth volume behind the surface, in world units"),
+        "extinction_per_mm": bpy.props.FloatProperty(
+            name="Extinction (1/mm)", default=40.0, min=0.0,
+            description="Extinction of fibre at density 1 per millimetre of texture space"),
+        "isotropic_albedo": bpy.props.FloatVectorProperty(
+            name="Isotropic albedo", subtype="COLOR", size=3, min=0.0, max=1.0,
+            default=(0.8, 0.8, 0.8),
+            description="Scattering albedo when the reference renderer's shading is isotropic"),
+        "lookup_dir": bpy.props.StringProperty(
+            name="Lookup folder", subtype="DIR_PATH",
+            description="Lookup to apply to this object; empty = the scene's bake folder"),
+    }
+
+    # -- cloth spec <-> fields ------------------------------------------------
+    def fields(self):
+        out = {"weave": self.weave}
+        for name in cloth_fields.FIELDS:
+            value = getattr(self, name)
+            out[name] = list(value) if name in cloth_fields.COLOR_FIELDS else value
+        return out
+
+    def set_fields_from_spec(self, spec, path=""):
+        """Fills the fields from a spec dict and makes it the base; not an edit."""
+        global _loading
+        fields = cloth_fields.fields_from_spec(spec, path)
+        _loading = True
+        try:
+            self.weave = fields["weave"]
+            for name in cloth_fields.FIELDS:
+                setattr(self, name, fields[name])
+            self.cloth_base = json.dumps(spec)
+            self.cloth_edited = False
+        finally:
+            _loading = False
+
+    def load_cloth_file(self, path):
+        global _loading
+        spec = read_cloth_file(bpy.path.abspath(path))
+        self.set_fields_from_spec(spec, path)
+        _loading = True
+        try:
+            self.cloth_path = path
+        finally:
+            _loading = False
+
+    def load_from_scene_object(self, o):
+        """Takes an object of a loaded scene (clothbake.core.scene.load_scene):
+        its cloth (file or inline) and its settings. Raises ClothbakeError for
+        a cloth spec file that cannot be read."""
+        global _loading
+        if "cloth_path" in o:
+            self.load_cloth_file(o["cloth_path"])
+        else:
+            self.set_fields_from_spec(o["cloth"])
+            _loading = True
+            try:
+                self.cloth_path = ""
+            finally:
+                _loading = False
+        self.is_cloth = True
+        self.repeats_per_uv = o["repeats_per_uv"]
+        self.thickness_world = o["thickness_world"]
+        self.extinction_per_mm = o["extinction_per_mm"]
+        self.isotropic_albedo = o.get("isotropic_albedo", (0.8, 0.8, 0.8))
+
+    def cloth(self):
+        """What export writes as the object's cloth: the spec file's absolute
+        path while unedited, else the spec dict."""
+        if self.cloth_path and not self.cloth_edited:
+            return os.path.abspath(bpy.path.abspath(self.cloth_path))
+        base = json.loads(self.cloth_base) if self.cloth_base else None
+        return cloth_fields.spec_from_fields(self.fields(), base)
+
+    def to_scene_object(self):
+        """The object's entry for clothbake.core.scene_export.build_scene,
+        without its mesh. Raises ClothbakeError."""
+        return {"name": self.id_data.name, "cloth": self.cloth(),
+                "repeats_per_uv": self.repeats_per_uv, "thickness_world": self.thickness_world,
+                "extinction_per_mm": self.extinction_per_mm,
+                "isotropic_albedo": list(self.isotropic_albedo)}
+
+
+def _items(names):
+    return [(n, n, "") for n in names]
+
+
+class ClothbakeSceneSettings(bpy.types.PropertyGroup):
+    """scene.clothbake: the scene file, the bake and the comparison."""
+    scene_path: bpy.props.StringProperty(
+        name="Scene file", subtype="FILE_PATH",
+        description="clothbake scene this Blender scene was imported from or last exported to; "
+                    "Bake uses it as long as it still describes the Blender scene")
+    bake_dir: bpy.props.StringProperty(
+        name="Bake folder", subtype="DIR_PATH",
+        description="Lookup folder Bake writes and Apply reads (empty: SCENE_bake beside the "
+                    "scene file)")
+    adaptive: bpy.props.BoolProperty(
+        name="Adaptive", default=True,
+        description="Bake only what the scene's camera sees, at the resolution it sees it "
+                    "(otherwise every quad and direction at the texels below)")
+    directions: bpy.props.IntProperty(name="Directions (K)", default=8, min=2, max=64,
+                                      description="Direction nodes per side of each hemisphere")
+    texels: bpy.props.IntProperty(name="Texels", default=64, min=1, max=4096,
+                                  description="Texels per quad side (full bake)")
+    bake_spp: bpy.props.IntProperty(name="Samples per texel", default=4, min=1, max=4096,
+                                    description="Jittered sub-texel samples per texel")
+    texels_per_pixel: bpy.props.FloatProperty(
+        name="Texels per pixel", default=1.5, min=0.01, max=64.0,
+        description="Adaptive: texels per projected pixel along a quad edge")
+    compare_samples: bpy.props.IntProperty(name="Compare samples", default=16, min=1,
+                                           max=65536,
+                                           description="Cycles samples of the Compare render")
+    # The reference renderer's settings, written to the scene's "render" block.
+    render_spp: bpy.props.IntProperty(name="Reference samples", default=RENDER_DEFAULTS["spp"],
+                                      min=1, max=65536,
+                                      description="Samples per pixel of clothbake render")
+    step_cells: bpy.props.FloatProperty(name="Step (cells)", default=0.5, min=1e-4, max=16.0,
+                                        description="March step, fraction of a cell edge")
+    fiber_model: bpy.props.EnumProperty(name="Fibre model", items=_items(FIBER_MODELS),
+                                        default=RENDER_DEFAULTS["fiber_model"])
+    fiber_samples: bpy.props.IntProperty(name="Fibre samples", default=64, min=1, max=65536)
+    transmittance: bpy.props.EnumProperty(name="Transmittance", items=_items(TRANSMITTANCES),
+                                          default=RENDER_DEFAULTS["transmittance"])
+    shading: bpy.props.EnumProperty(name="Shading", items=_items(SHADINGS),
+                                    default=RENDER_DEFAULTS["shading"])
+    cutoff: bpy.props.FloatProperty(name="Cutoff", default=0.001, min=0.0, max=0.999,
+                                    precision=4)
+    render_seed: bpy.props.IntProperty(name="Seed", default=1, min=0)
+    # Status of the last bake / comparison, for the panel.
+    bake_running: bpy.props.BoolProperty(default=False, options={"SKIP_SAVE"})
+    bake_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0, subtype="FACTOR",
+                                           options={"SKIP_SAVE"})
+    bake_status: bpy.props.StringProperty(name="Last bake")
+    compare_status: bpy.props.StringProperty(name="Last comparison")
+
+    _RENDER_KEYS = {"spp": "render_spp", "step_cells": "step_cells",
+                    "fiber_model": "fiber_model", "fiber_samples": "fiber_samples",
+                    "transmittance": "transmittance", "shading": "shading", "cutoff": "cutoff",
+                    "seed": "render_seed"}
+
+    def load_render(self, render):
+        """Takes a scene's "render" block (defaults where a key is absent)."""
+        values = dict(RENDER_DEFAULTS)
+        values.update({k: v for k, v in (render or {}).items() if k in self._RENDER_KEYS})
+        for key, prop in self._RENDER_KEYS.items():
+            setattr(self, prop, values[key])
+
+    def render_dict(self):
+        return {key: getattr(self, prop) for key, prop in self._RENDER_KEYS.items()}
+
+    def bake_folder(self):
+        """The absolute bake folder ("" when neither it nor a scene file is set)."""
+        if self.bake_dir:
+            return os.path.abspath(bpy.path.abspath(self.bake_dir)).rstrip(os.sep)
+        if self.scene_path:
+            return os.path.splitext(os.path.abspath(bpy.path.abspath(self.scene_path)))[0] + \
+                "_bake"
+        return ""
+
+
+CLASSES = (ClothbakeObjectSettings, ClothbakeSceneSettings)
+
+
+def register_extra():
+    bpy.types.Object.clothbake = bpy.props.PointerProperty(type=ClothbakeObjectSettings)
+    bpy.types.Scene.clothbake = bpy.props.PointerProperty(type=ClothbakeSceneSettings)
+
+
+def unregister_extra():
+    del bpy.types.Scene.clothbake
+    del bpy.types.Object.clothbake

@@ -1,0 +1,165 @@
+"""Export, the Blender side: gathers the camera, lights, cloth objects,
+background and settings of a Blender scene as plain data and hands them to
+clothbake.core.scene_export, which builds and writes the scene.
+
+What is exported: the scene camera (perspective, no lens shift), every
+render-visible sun and point light, every mesh object whose clothbake
+"Cloth" box is ticked (its base mesh in world space, modifiers not applied,
+faces and corners in Blender's order: face q is the lookup's quad q; the
+render-active UV map), the world's background colour and scene.clothbake's
+reference render settings. Coordinates are written as they are (no axis
+conversion), as import reads them.
+"""
+import os
+import re
+
+from ..core import scene_export
+from ..core.errors import ClothbakeError
+from ..core.scene import load_scene
+
+_LIGHT_NAME = re.compile(r"^clothbake light (\d+)$")
+
+
+def cloth_objects(scene):
+    """Mesh objects marked as cloth, in scene order: those imported in their
+    scene's order (clothbake_object_index), then the others by name."""
+    objs = [o for o in scene.objects if o.type == "MESH" and o.clothbake.is_cloth]
+    return sorted(objs, key=lambda o: (0, o["clothbake_object_index"], o.name)
+                  if isinstance(o.get("clothbake_object_index"), int) else (1, 0, o.name))
+
+
+def _lights(scene):
+    """(hint index or None, light object): imported lights in their scene
+    order, then the others by name."""
+    out = []
+    for obj in scene.objects:
+        if obj.type != "LIGHT" or obj.hide_render:
+            continue
+        m = _LIGHT_NAME.match(obj.name)
+        out.append((int(m.group(1)) if m else None, obj))
+    return sorted(out, key=lambda e: (0, e[0], "") if e[0] is not None else (1, 0, e[1].name))
+
+
+def hint_scene(scene):
+    """The scene file this Blender scene came from, loaded, or None."""
+    path = scene.clothbake.scene_path
+    if not path:
+        return None
+    try:
+        return load_scene(os.path.abspath(_abspath(path)))
+    except ClothbakeError:
+        return None
+
+
+def _abspath(path):
+    import bpy
+    return bpy.path.abspath(path)
+
+
+def _matrix(m):
+    return [list(row) for row in m]
+
+
+def _background(scene):
+    world = scene.world
+    if world is None:
+        return [0.0, 0.0, 0.0]
+    if world.use_nodes and world.node_tree:
+        for node in world.node_tree.nodes:
+            if node.type == "BACKGROUND":
+                strength = node.inputs["Strength"].default_value
+                return [c * strength for c in node.inputs["Color"].default_value[:3]]
+    return list(world.color)
+
+
+def mesh_data(obj):
+    """QuadMeshData of a cloth object: world positions, faces in order."""
+    mesh = obj.data
+    matrix = obj.matrix_world
+    positions = [tuple(matrix @ v.co) for v in mesh.vertices]
+    faces = [tuple(p.vertices) for p in mesh.polygons]
+    layer = None
+    for candidate in mesh.uv_layers:
+        if candidate.active_render:
+            layer = candidate
+    if layer is None and len(mesh.uv_layers):
+        layer = mesh.uv_layers[0]
+    face_uvs = None
+    if layer is not None:
+        face_uvs = [[tuple(layer.data[li].uv) for li in p.loop_indices] for p in mesh.polygons]
+    return scene_export.quad_mesh(obj.name, positions, faces, face_uvs)
+
+
+def build_model(scene):
+    """The export model of a Blender scene (clothbake.core.scene_export).
+    Raises ClothbakeError naming what cannot be exported."""
+    hint = hint_scene(scene)
+    cam_obj = scene.camera
+    if cam_obj is None or cam_obj.type != "CAMERA":
+        raise ClothbakeError("the scene has no camera", "", "camera")
+    cam = cam_obj.data
+    if cam.type != "PERSP":
+        raise ClothbakeError(f"camera '{cam_obj.name}' is {cam.type.lower()}; clothbake has a "
+                             "perspective (pinhole) camera only", "", "camera")
+    if abs(cam.shift_x) > 1e-9 or abs(cam.shift_y) > 1e-9:
+        raise ClothbakeError(f"camera '{cam_obj.name}' has a lens shift; clothbake's camera "
+                             "looks through the image centre", "", "camera")
+    r = scene.render
+    if abs(r.pixel_aspect_x - r.pixel_aspect_y) > 1e-9:
+        raise ClothbakeError("non-square pixels (pixel aspect) are not supported", "", "camera")
+    pct = r.resolution_percentage / 100.0
+    resolution = [max(1, int(r.resolution_x * pct)), max(1, int(r.resolution_y * pct))]
+    camera = scene_export.camera_from_blender(
+        _matrix(cam_obj.matrix_world), cam.lens, cam.sensor_width, cam.sensor_height,
+        cam.sensor_fit, resolution, hint=hint["camera"] if hint else None,
+        look_distance=max(cam.dof.focus_distance, 1e-3) if cam.dof.focus_distance > 0 else 1.0)
+
+    lights = []
+    for index, obj in _lights(scene):
+        light_hint = None
+        if hint is not None and index is not None and index < len(hint["lights"]):
+            light_hint = hint["lights"][index]
+        lights.append(scene_export.light_from_blender(
+            obj.name, obj.data.type, _matrix(obj.matrix_world), obj.data.color, obj.data.energy,
+            hint=light_hint))
+
+    objects = []
+    for obj in cloth_objects(scene):
+        entry = obj.clothbake.to_scene_object()
+        entry["mesh"] = mesh_data(obj)
+        objects.append(entry)
+    if not objects:
+        raise ClothbakeError("no cloth objects: tick 'Cloth' in the clothbake panel "
+                             "(Object properties) of a quad mesh with UVs", "", "objects")
+    name = hint["name"] if hint else (os.path.splitext(os.path.basename(
+        _abspath(scene.clothbake.scene_path)))[0] if scene.clothbake.scene_path else scene.name)
+    return scene_export.build_scene(camera, lights, objects, _background(scene),
+                                    scene.clothbake.render_dict(), name=name)
+
+
+def export_scene(scene, path):
+    """Writes the scene file (and its OBJs beside it); it becomes the
+    scene's scene file. Returns the absolute path."""
+    model = build_model(scene)
+    path = scene_export.write_scene(model, _abspath(path))
+    scene.clothbake.scene_path = path
+    return path
+
+
+def scene_file_for_bake(scene):
+    """The scene file to bake: the scene file when it still describes the
+    Blender scene, else a fresh export to BAKE_DIR.scene/scene.json (which
+    becomes the scene file). Returns (path, exported)."""
+    model = build_model(scene)
+    settings = scene.clothbake
+    current = os.path.abspath(_abspath(settings.scene_path)) if settings.scene_path else ""
+    if current and scene_export.scene_matches_file(model, current):
+        return current, False
+    bake_dir = settings.bake_folder()
+    if not bake_dir:
+        raise ClothbakeError("set a bake folder (or export the scene first)", "", "bake folder")
+    path = scene_export.write_scene(model, os.path.join(bake_dir + ".scene", "scene.json"))
+    if not settings.bake_dir:
+        settings.bake_dir = bake_dir  # keep the folder when the scene file changes
+    settings.scene_path = path
+    return path, True
