@@ -180,20 +180,20 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
 
     _running = False  # one bake at a time
 
-    def _start_report(self, context, bake_dir):
-        settings = context.scene.clothbake
+    def _start_report(self, scene, bake_dir):
+        settings = scene.clothbake
         settings.bake_running = True
         settings.bake_progress = 0.0
         settings.bake_status = f"baking into {bake_dir}"
 
-    def _finish(self, context, code, stderr_lines, bake_dir):
-        settings = context.scene.clothbake
+    def _finish(self, scene, code, stderr_lines, bake_dir):
+        settings = scene.clothbake
         settings.bake_running = False
         if code == 0:
             settings.bake_progress = 1.0
             settings.bake_status = _bake_summary(bake_dir)
             self.report({"INFO"}, "clothbake " + settings.bake_status)
-            _reapply(self, context.scene, bake_dir)
+            _reapply(self, scene, bake_dir)
             return {"FINISHED"}
         message = _program_error(stderr_lines, "bake", code)
         settings.bake_status = "failed: " + message
@@ -210,7 +210,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         except ClothbakeError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        self._start_report(context, bake_dir)
+        self._start_report(context.scene, bake_dir)
         env = dict(os.environ, CLOTHBAKE_PROGRESS="lines")
         try:
             run = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
@@ -219,7 +219,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
             context.scene.clothbake.bake_running = False
             self.report({"ERROR"}, f"{args[0]}: cannot run the clothbake program: {e.strerror}")
             return {"CANCELLED"}
-        return self._finish(context, run.returncode, run.stderr.splitlines(), bake_dir)
+        return self._finish(context.scene, run.returncode, run.stderr.splitlines(), bake_dir)
 
     def invoke(self, context, event):
         if bpy.app.background:
@@ -244,7 +244,8 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         self._reader = threading.Thread(target=self._read, args=(self._proc.stderr, self._queue),
                                          daemon=True)
         self._reader.start()
-        self._start_report(context, self._bake_dir)
+        self._scene = context.scene  # the baked scene, whichever is shown later
+        self._start_report(self._scene, self._bake_dir)
         wm = context.window_manager
         wm.progress_begin(0, 100)
         self._timer = wm.event_timer_add(0.2, window=context.window)
@@ -259,7 +260,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         out.put(None)
 
     def _drain(self, context):
-        settings = context.scene.clothbake
+        settings = self._scene.clothbake
         done = False
         while True:
             try:
@@ -287,7 +288,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         _redraw(context)
 
     def modal(self, context, event):
-        if event.type == "ESC":
+        if event.type == "ESC" and event.value == "PRESS":
             self._proc.terminate()  # SIGTERM: the output is only ever written atomically
             try:
                 self._proc.wait(timeout=10)
@@ -296,7 +297,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
                 self._proc.wait()
             _clean_after_kill(self._bake_dir, self._proc.pid)
             self._end_modal(context)
-            settings = context.scene.clothbake
+            settings = self._scene.clothbake
             settings.bake_running = False
             settings.bake_status = "cancelled; the previous lookup (if any) is unchanged"
             self.report({"WARNING"}, "clothbake bake cancelled")
@@ -309,7 +310,7 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         if code is None or not reader_done:
             return {"RUNNING_MODAL"}
         self._end_modal(context)
-        return self._finish(context, code, self._lines, self._bake_dir)
+        return self._finish(self._scene, code, self._lines, self._bake_dir)
 
 
 # -- apply ---------------------------------------------------------------------

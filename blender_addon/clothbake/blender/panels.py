@@ -104,11 +104,12 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.scale_y = 1.4
         sub = row.row(align=True)
-        sub.enabled = not settings.bake_running
+        running = CLOTHBAKE_OT_bake._running  # not the saved flag: a .blend may keep it
+        sub.enabled = not running
         sub.operator(CLOTHBAKE_OT_bake.bl_idname, icon="RENDER_STILL")
         row.operator(CLOTHBAKE_OT_apply.bl_idname, icon="MATERIAL")
         row.operator(CLOTHBAKE_OT_compare.bl_idname, icon="IMAGE_REFERENCE")
-        if settings.bake_running:
+        if running and settings.bake_running:
             layout.prop(settings, "bake_progress", text="Baking (Esc cancels)", slider=True)
         if settings.bake_status:
             layout.label(text="Bake: " + settings.bake_status)

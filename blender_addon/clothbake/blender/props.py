@@ -60,7 +60,7 @@ _WEAVE_ITEMS = [
 ]
 
 
-def _float(name, default, lo, hi, desc, unit="NONE", step=1, precision=3):
+def _float(name, default, lo, hi, desc, step=1, precision=3):
     return bpy.props.FloatProperty(name=name, default=default, min=lo, max=hi, description=desc,
                                    update=_mark_edited, step=step, precision=precision)
 
@@ -71,7 +71,8 @@ def _yarn(family, default_color):
         f"{family}_spacing_mm": _float(f"{F} spacing (mm)", 0.5, 1e-4, 100.0,
                                        "Distance between neighbouring yarn centres"),
         f"{family}_width_mm": _float(f"{F} width (mm)", 0.44, 1e-4, 200.0,
-                                     "Full width of the yarn's cross-section (at most 2 x spacing)"),
+                                     "Full width of the yarn's cross-section "
+                                     "(at most 2 x spacing)"),
         f"{family}_thickness_mm": _float(f"{F} thickness (mm)", 0.18, 1e-4, 100.0,
                                          "Full height of the yarn's cross-section"),
         f"{family}_color": bpy.props.FloatVectorProperty(
@@ -79,7 +80,8 @@ def _yarn(family, default_color):
             default=default_color, update=_mark_edited,
             description="Diffuse albedo of the fibres, linear RGB"),
         f"{family}_twist_deg": _float(f"{F} ply twist (deg)", 28.0, 0.0, 89.0,
-                                      "Angle of the fibres to the yarn axis", step=100, precision=1),
+                                      "Angle of the fibres to the yarn axis",
+                                      step=100, precision=1),
         f"{family}_ply_pitch_mm": _float(f"{F} ply pitch (mm)", 1.0, 1e-4, 1000.0,
                                          "Yarn length of one full turn of the two bundles"),
     }
@@ -260,9 +262,8 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
                                     precision=4)
     render_seed: bpy.props.IntProperty(name="Seed", default=1, min=0)
     # Status of the last bake / comparison, for the panel.
-    bake_running: bpy.props.BoolProperty(default=False, options={"SKIP_SAVE"})
-    bake_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0, subtype="FACTOR",
-                                           options={"SKIP_SAVE"})
+    bake_running: bpy.props.BoolProperty(default=False)
+    bake_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0, subtype="FACTOR")
     bake_status: bpy.props.StringProperty(name="Last bake")
     compare_status: bpy.props.StringProperty(name="Last comparison")
 

@@ -112,7 +112,7 @@ def build_model(scene):
     camera = scene_export.camera_from_blender(
         _matrix(cam_obj.matrix_world), cam.lens, cam.sensor_width, cam.sensor_height,
         cam.sensor_fit, resolution, hint=hint["camera"] if hint else None,
-        look_distance=max(cam.dof.focus_distance, 1e-3) if cam.dof.focus_distance > 0 else 1.0)
+        look_distance=cam.dof.focus_distance if cam.dof.focus_distance > 0 else 1.0)
 
     lights = []
     for index, obj in _lights(scene):

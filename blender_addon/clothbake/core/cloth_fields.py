@@ -102,8 +102,9 @@ def fields_from_spec(spec, path=""):
             continue
         field = ".".join(keys)
         if name in COLOR_FIELDS:
-            if (not isinstance(value, list) or len(value) != 3 or
-                    not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in value)):
+            numbers = all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                          for c in value) if isinstance(value, list) else False
+            if not numbers or len(value) != 3:
                 raise ClothbakeError("must be an array of 3 numbers", path, field)
             fields[name] = [float(c) for c in value]
         elif name in INT_FIELDS:
