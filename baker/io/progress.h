@@ -1,6 +1,7 @@
 #pragma once
 /// A progress bar on stderr for long jobs. On a terminal it redraws one line;
-/// otherwise (logs, CI) it prints a line every 10 percent. Thread-compatible:
+/// otherwise (logs, CI) it prints a line every 10 percent, or every percent
+/// when CLOTHBAKE_PROGRESS=lines (the Blender add-on reads those). Thread-compatible:
 /// callers serialise update() (the renderer does).
 
 #include <chrono>
