@@ -47,6 +47,10 @@ def _weave_uv_layer(mesh):
     return mesh.uv_layers[0] if len(mesh.uv_layers) else None
 
 
+def _count(n, noun):
+    return f"{n} {noun}" + ("" if n == 1 else "s")
+
+
 def pick_lookup_object(lookup, obj):
     """The lookup object for a Blender object: by the index stored on import,
     else by name, else the only one."""
@@ -70,13 +74,14 @@ def write_mesh_layers(obj, lookup, lookup_object):
     mesh = obj.data
     manifest = os.path.join(lookup.folder, "manifest.json")
     if len(mesh.polygons) != lookup_object.quads:
-        raise ClothbakeError(f"mesh '{obj.name}' has {len(mesh.polygons)} faces; the lookup's "
-                             f"object '{lookup_object.name}' has {lookup_object.quads} quads "
+        raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(mesh.polygons), 'face')}; the "
+                             f"lookup's object '{lookup_object.name}' has "
+                             f"{_count(lookup_object.quads, 'quad')} "
                              "(was it baked from another mesh?)", manifest,
                              f"objects[{lookup_object.index}].quads")
     bad = [p.index for p in mesh.polygons if p.loop_total != 4]
     if bad:
-        raise ClothbakeError(f"mesh '{obj.name}' has {len(bad)} faces that are not quads "
+        raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(bad), 'face')} that are not quads "
                              f"(first: face {bad[0]}, {mesh.polygons[bad[0]].loop_total} corners)")
     weave = _weave_uv_layer(mesh)
     if weave is None:
