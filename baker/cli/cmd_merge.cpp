@@ -29,9 +29,9 @@ void run_merge(const MergeArgs& a) {
   io::write_lookup(a.out_dir, tables, info, scene);
   uint64_t baked = 0, total = 0;
   for (const LookupTable& t : tables)
-    for (size_t q = 0; q < t.rects.size(); ++q) {
-      total += t.rects[q].size > 0;
-      baked += t.quad_baked(int(q));
+    for (int q = 0; q < t.quad_count(); ++q) {
+      total += t.sizes[q] > 0;
+      baked += t.quad_baked(q);
     }
   const nlohmann::json report = {{"out", a.out_dir},
                                  {"parts", a.parts},

@@ -38,35 +38,6 @@ V3f bake_direction(V3f d) {
   return len > 0.0f ? V3f(d.x / len * xy, d.y / len * xy, sign * min_z) : V3f(0, 0, sign);
 }
 
-/// Shelf packing of squares (plus gutters) in quad order: deterministic,
-/// rows as wide as the square root of the total area.
-void pack(LookupTable& t) {
-  const int g = t.gutter;
-  double area = 0.0;
-  int largest = 0;
-  for (const QuadRect& r : t.rects)
-    if (r.size) {
-      area += double(r.size + 2 * g) * (r.size + 2 * g);
-      largest = std::max(largest, r.size + 2 * g);
-    }
-  const int width = std::max(largest, int(std::ceil(std::sqrt(area) * 1.05)));
-  int x = 0, y = 0, row_height = 0;
-  for (QuadRect& r : t.rects) {
-    if (!r.size) continue;
-    const int w = r.size + 2 * g;
-    if (x + w > width) {
-      x = 0;
-      y += row_height;
-      row_height = 0;
-    }
-    r.x = x + g;
-    r.y = y + g;
-    x += w;
-    row_height = std::max(row_height, w);
-  }
-  t.tile_width = std::max(1, width);
-  t.tile_height = std::max(1, y + row_height);
-}
 }  // namespace
 
 BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
@@ -80,8 +51,10 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
     t.dirs.map = s.map;
     const int n_quads = renderer.quad_count(o);
     const int nodes = 2 * s.directions * s.directions;
-    t.rects.assign(n_quads, {});
-    t.baked.assign(size_t(n_quads) * nodes, 0);
+    t.sizes.assign(n_quads, 0);
+    // `wanted`: what the whole bake computes (it fixes the layout, so that
+    // partial bakes share it); `t.baked`: what this bake computes.
+    std::vector<uint8_t> wanted(size_t(n_quads) * nodes, 0);
     const int end = s.quad_end < 0 ? n_quads : std::min(s.quad_end, n_quads);
     if (s.quad_begin < 0 || s.quad_begin > n_quads || s.quad_begin >= end)
       throw InputError("--quads", "the range " + std::to_string(s.quad_begin) + "-" +
@@ -93,7 +66,7 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
       plan.full_nodes += nodes;
       plan.full_texels += uint64_t(s.texels) * s.texels;
       if (!patch.valid()) continue;
-      uint8_t* flags = &t.baked[size_t(q) * nodes];
+      uint8_t* flags = &wanted[size_t(q) * nodes];
       int size = s.texels;
       if (!s.adaptive) {
         std::fill(flags, flags + nodes, 1);
@@ -145,11 +118,8 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
       // The layout covers every quad the whole bake would, so partial bakes
       // (--quads) of one scene share it and merge into the whole bake; only
       // the flags are limited to the subset.
-      t.rects[q].size = size;
-      if (q < s.quad_begin || q >= end) {
-        std::fill(flags, flags + nodes, 0);
-        continue;
-      }
+      t.sizes[q] = size;
+      if (q < s.quad_begin || q >= end) continue;
       int baked_nodes = 0;
       for (int n = 0; n < nodes; ++n) baked_nodes += flags[n];
       plan.baked_nodes += baked_nodes;
@@ -158,7 +128,11 @@ BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
     }
     plan.full_texel_direction_samples +=
         uint64_t(n_quads) * s.texels * s.texels * nodes * uint64_t(s.spp);
-    pack(t);
+    t.pack(wanted);
+    t.baked = wanted;
+    for (int q = 0; q < n_quads; ++q)
+      if (q < s.quad_begin || q >= end)
+        std::fill_n(t.baked.begin() + ptrdiff_t(q) * nodes, nodes, uint8_t(0));
     plan.objects.push_back(std::move(t));
   }
   return plan;
@@ -174,23 +148,20 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, cons
   const double total = double(std::max<uint64_t>(1, plan.texel_direction_samples));
   for (size_t o = 0; o < tables.size(); ++o) {
     LookupTable& t = tables[o];
-    t.allocate_tiles();
+    t.allocate_atlases();
     const int nodes = t.node_count();
     // One job per (quad, texel row): every texel's samples are seeded by
     // their own indices, so the result does not depend on scheduling.
     std::vector<std::pair<int, int>> jobs;
-    for (size_t q = 0; q < t.rects.size(); ++q) {
-      bool any = false;
-      for (int n = 0; n < nodes && !any; ++n) any = t.is_baked(int(q), n);
-      if (any)
-        for (int b = 0; b < t.rects[q].size; ++b) jobs.emplace_back(int(q), b);
-    }
+    for (int q = 0; q < t.quad_count(); ++q)
+      if (t.quad_baked(q))
+        for (int b = 0; b < t.sizes[q]; ++b) jobs.emplace_back(q, b);
     tbb::parallel_for(size_t(0), jobs.size(), [&](size_t job) {
       const auto [q, b] = jobs[job];
-      const QuadRect& r = t.rects[q];
+      const int size = t.sizes[q];
       const QuadPatch& patch = renderer.patch(int(o), q);
       uint64_t local = 0;
-      for (int a = 0; a < r.size; ++a)
+      for (int a = 0; a < size; ++a)
         for (int node = 0; node < nodes; ++node) {
           if (!t.is_baked(q, node)) continue;
           const int side = node / t.dirs.nodes_per_side();
@@ -202,8 +173,8 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, cons
             // A jittered point of the texel's footprint.
             Rng rng(hash_key(s.seed, o, uint64_t(q), uint64_t(a), uint64_t(b), uint64_t(node),
                              uint64_t(k)));
-            const float ps = (a + rng.next_float()) / r.size;
-            const float pt = 1.0f - (b + rng.next_float()) / r.size;
+            const float ps = (a + rng.next_float()) / size;
+            const float pt = 1.0f - (b + rng.next_float()) / size;
             const SurfaceFrame f = patch.frame(ps, pt);
             const V3f to_eye_world = f.tangent_world * to_eye_local.x +
                                      f.bitangent_world * to_eye_local.y +
@@ -214,7 +185,7 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, cons
             sum[2] += m.radiance.z;
             sum[3] += 1.0f - m.transmittance;
           }
-          Imath::half* texel = &t.tiles[node][((size_t(r.y + b) * t.tile_width) + r.x + a) * 4];
+          Imath::half* texel = t.texel(q, node, a, b);
           for (int c = 0; c < 4; ++c) texel[c] = Imath::half(sum[c] / float(s.spp));
           local += uint64_t(s.spp);
         }

@@ -30,10 +30,11 @@ struct BakeSettings {
   uint64_t seed = 1;
 };
 
-/// What a bake computes, per object. Quads outside the subset or unseen have
-/// rect size 0; nodes not needed are not baked.
+/// What a bake computes, per object. Unseen quads have size 0; nodes not
+/// needed are not baked and get no square; quads outside the subset keep
+/// their squares (the whole bake's layout) but are not baked.
 struct BakePlan {
-  std::vector<LookupTable> objects;           ///< layout and baked flags filled, tiles empty
+  std::vector<LookupTable> objects;           ///< layout and baked flags filled, atlases empty
   uint64_t texel_direction_samples = 0;       ///< texels x directions x spp to evaluate
   uint64_t full_texel_direction_samples = 0;  ///< the same for a full bake at BakeSettings::texels
   uint64_t baked_nodes = 0,

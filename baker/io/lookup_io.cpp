@@ -31,21 +31,8 @@ std::string image_name(size_t object, int side) {
   return "object" + std::to_string(object) + "_side" + std::to_string(side) + ".exr";
 }
 
-/// True if any quad bakes any node of `side`.
-bool side_baked(const LookupTable& t, int side) {
-  const int per_side = t.dirs.nodes_per_side();
-  for (size_t q = 0; q < t.rects.size(); ++q)
-    for (int n = side * per_side; n < (side + 1) * per_side; ++n)
-      if (t.is_baked(int(q), n)) return true;
-  return false;
-}
-
-/// True if any quad bakes `node`.
-bool node_baked(const LookupTable& t, int node) {
-  for (size_t q = 0; q < t.rects.size(); ++q)
-    if (t.is_baked(int(q), node)) return true;
-  return false;
-}
+/// True if the side's atlas holds any square (it then has an image file).
+bool side_has_atlas(const LookupTable& t, int side) { return t.atlases[side].width > 0; }
 
 // ---------------------------------------------------------------------------
 // Scene fingerprint
@@ -162,24 +149,34 @@ json manifest_json(const std::vector<LookupTable>& tables, const LookupInfo& inf
     json obj;
     obj["name"] = o < scene.objects.size() ? scene.objects[o].name : std::string();
     obj["cloth_hash"] = o < info.cloth_hashes.size() ? info.cloth_hashes[o] : std::string();
-    obj["quads"] = t.rects.size();
-    obj["tile"] = json::array({t.tile_width, t.tile_height});
+    obj["quads"] = t.quad_count();
     obj["gutter"] = t.gutter;
-    json rects = json::array(), baked = json::array();
-    for (size_t q = 0; q < t.rects.size(); ++q) {
-      const QuadRect& r = t.rects[q];
-      rects.push_back(json::array({r.x, r.y, r.size}));
+    obj["sizes"] = t.sizes;
+    json baked = json::array();
+    for (int q = 0; q < t.quad_count(); ++q) {
       std::string flags(size_t(t.node_count()), '0');
       for (int n = 0; n < t.node_count(); ++n)
-        if (t.is_baked(int(q), n)) flags[n] = '1';
+        if (t.is_baked(q, n)) flags[n] = '1';
       baked.push_back(std::move(flags));
     }
-    obj["rects"] = std::move(rects);
     obj["baked"] = std::move(baked);
-    json files = json::object();
-    for (int side = 0; side < 2; ++side)
-      files[k_side_names[side]] = side_baked(t, side) ? json(image_name(o, side)) : json(nullptr);
-    obj["files"] = std::move(files);
+    json sides = json::object();
+    for (int side = 0; side < 2; ++side) {
+      if (!side_has_atlas(t, side)) {
+        sides[k_side_names[side]] = nullptr;
+        continue;
+      }
+      json squares = json::array();
+      for (int q = 0; q < t.quad_count(); ++q)
+        for (int n = side * t.dirs.nodes_per_side(); n < (side + 1) * t.dirs.nodes_per_side(); ++n)
+          if (const SquareSlot& sl = t.slot(q, n); sl.valid())
+            squares.push_back(json::array({q, n, sl.x, sl.y}));
+      sides[k_side_names[side]] = {
+          {"file", image_name(o, side)},
+          {"size", json::array({t.atlases[side].width, t.atlases[side].height})},
+          {"squares", std::move(squares)}};
+    }
+    obj["sides"] = std::move(sides);
     m["objects"].push_back(std::move(obj));
   }
   m["statistics"] = info.statistics.is_null() ? json::object() : info.statistics;
@@ -192,32 +189,21 @@ void check_table(const LookupTable& t, size_t object, int k) {
   if (t.dirs.k != k)
     throw InputError(field, "all objects of one lookup must share K (" + std::to_string(k) +
                                 "), this one has " + std::to_string(t.dirs.k));
-  if (t.tile_width < 1 || t.tile_height < 1) throw InputError(field, "tile size must be positive");
-  if (t.baked.size() != t.rects.size() * size_t(t.node_count()))
-    throw InputError(field, "baked flags do not match quads x nodes");
+  if (t.baked.size() != t.sizes.size() * size_t(t.node_count()) ||
+      t.slots.size() != t.baked.size())
+    throw InputError(field, "baked flags or squares do not match quads x nodes");
+  for (int side = 0; side < 2; ++side)
+    if (side_has_atlas(t, side) &&
+        t.atlases[side].pixels.size() !=
+            size_t(t.atlases[side].width) * size_t(t.atlases[side].height) * 4)
+      throw InputError(field, "the atlas of side " + std::to_string(side) + " is not allocated");
 }
 
-/// The atlas of one side: node (side, i, j) in the tile at (i * w, j * h).
+/// The atlas of one side, as it is in memory.
 void write_side_image(const std::string& path, const LookupTable& t, int side) {
-  const int k = t.dirs.k, tw = t.tile_width, th = t.tile_height;
-  const size_t width = size_t(k) * tw, height = size_t(k) * th;
-  std::vector<Imath::half> pixels(width * height * 4, Imath::half(0.0f));
-  const size_t tile_halves = size_t(tw) * th * 4;
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      const int node = t.dirs.node_index(side, i, j);
-      if (!node_baked(t, node)) continue;
-      if (size_t(node) >= t.tiles.size() || t.tiles[node].size() != tile_halves)
-        throw InputError("",
-                         "tile of direction node " + std::to_string(node) +
-                             " is missing or not tile_width x tile_height x 4",
-                         path);
-      const Imath::half* tile = t.tiles[node].data();
-      for (int y = 0; y < th; ++y)
-        std::copy_n(tile + size_t(y) * tw * 4, size_t(tw) * 4,
-                    &pixels[((size_t(j) * th + y) * width + size_t(i) * tw) * 4]);
-    }
-
+  const LookupAtlas& atlas = t.atlases[side];
+  const size_t width = size_t(atlas.width), height = size_t(atlas.height);
+  const std::vector<Imath::half>& pixels = atlas.pixels;
   oiio::ImageSpec spec(int(width), int(height), 4, oiio::TypeDesc::HALF);
   spec.channelnames = {"R", "G", "B", "A"};
   spec.alpha_channel = 3;
@@ -296,9 +282,9 @@ BakeSettings read_settings(const JsonObject& j) {
   return s;
 }
 
-/// Reads a side atlas: (K * tw) x (K * th) RGBA, as halves.
+/// Reads a side atlas of want_w x want_h RGBA pixels, as halves.
 std::vector<Imath::half> read_side_image(const std::string& path, const std::string& named_by,
-                                         int k, int tw, int th) {
+                                         int64_t want_w, int64_t want_h) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw InputError(
@@ -312,13 +298,11 @@ std::vector<Imath::half> read_side_image(const std::string& path, const std::str
         "",
         "has " + std::to_string(spec.nchannels) + " channels; a lookup image has 4 (R, G, B, A)",
         path);
-  const int64_t want_w = int64_t(k) * tw, want_h = int64_t(k) * th;
   if (spec.width != want_w || spec.height != want_h || spec.depth != 1)
     throw InputError("",
                      "is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-                         " pixels; the manifest needs " + std::to_string(want_w) + " x " +
-                         std::to_string(want_h) + " (K = " + std::to_string(k) + ", tile " +
-                         std::to_string(tw) + " x " + std::to_string(th) + ")",
+                         " pixels; the manifest (" + named_by + ".size) says " +
+                         std::to_string(want_w) + " x " + std::to_string(want_h),
                      path);
   std::vector<Imath::half> pixels(size_t(want_w) * size_t(want_h) * 4);
   if (!in->read_image(0, 0, 0, 4, oiio::TypeDesc::HALF, pixels.data())) {
@@ -333,14 +317,16 @@ std::vector<Imath::half> read_side_image(const std::string& path, const std::str
 /// The first layout field in which two tables of one K differ (empty if none):
 /// parts of one bake share everything but their flags and texels.
 std::string layout_mismatch(const LookupTable& a, const LookupTable& b) {
-  if (a.tile_width != b.tile_width || a.tile_height != b.tile_height) return "tile";
   if (a.gutter != b.gutter) return "gutter";
-  if (a.rects.size() != b.rects.size()) return "quads";
-  for (size_t q = 0; q < a.rects.size(); ++q) {
-    const QuadRect &ra = a.rects[q], &rb = b.rects[q];
-    if (ra.x != rb.x || ra.y != rb.y || ra.size != rb.size)
-      return "rects[" + std::to_string(q) + "]";
+  if (a.sizes != b.sizes) return "sizes";
+  for (int side = 0; side < 2; ++side) {
+    const LookupAtlas &aa = a.atlases[side], &ab = b.atlases[side];
+    if (aa.width != ab.width || aa.height != ab.height)
+      return std::string("sides.") + k_side_names[side] + ".size";
   }
+  for (size_t i = 0; i < a.slots.size(); ++i)
+    if (a.slots[i].x != b.slots[i].x || a.slots[i].y != b.slots[i].y)
+      return "sides (squares)";
   return {};
 }
 }  // namespace
@@ -421,7 +407,7 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
   try {
     for (size_t o = 0; o < tables.size(); ++o)
       for (int side = 0; side < 2; ++side)
-        if (side_baked(tables[o], side))
+        if (side_has_atlas(tables[o], side))
           write_side_image((temp_dir / image_name(o, side)).string(), tables[o], side);
     write_manifest((temp_dir / k_manifest_name).string(), manifest_json(tables, info, scene));
   } catch (...) {
@@ -504,31 +490,18 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
     obj.read("cloth_hash", cloth_hash);
     const int quads = required_int(obj, "quads");
     if (quads < 0) obj.fail(obj.field("quads"), "must be >= 0");
-    const std::vector<int> tile_size = int_array(obj, required(obj, "tile"), obj.field("tile"), 2);
-    t.tile_width = tile_size[0];
-    t.tile_height = tile_size[1];
-    if (t.tile_width < 1 || t.tile_height < 1 ||
-        int64_t(k) * t.tile_width > std::numeric_limits<int>::max() ||
-        int64_t(k) * t.tile_height > std::numeric_limits<int>::max())
-      obj.fail(obj.field("tile"), "must be positive and K x tile must fit an image");
     t.gutter = required_int(obj, "gutter");
-    if (t.gutter < 0) obj.fail(obj.field("gutter"), "must be >= 0");
+    if (t.gutter < 0 || t.gutter > 64) obj.fail(obj.field("gutter"), "must be in [0, 64]");
 
-    const json& rects = required(obj, "rects");
-    if (!rects.is_array() || rects.size() != size_t(quads))
-      obj.fail(obj.field("rects"),
-               "expected an array of " + std::to_string(quads) + " [x, y, size] (one per quad)");
-    for (size_t q = 0; q < rects.size(); ++q) {
-      const std::string field = obj.field("rects") + "[" + std::to_string(q) + "]";
-      const std::vector<int> r = int_array(obj, rects[q], field, 3);
-      const QuadRect rect{r[0], r[1], r[2]};
-      if (rect.size < 0) obj.fail(field, "size must be >= 0");
-      if (rect.size > 0 && (rect.x < 0 || rect.y < 0 || rect.x > t.tile_width - rect.size ||
-                            rect.y > t.tile_height - rect.size))
-        obj.fail(field, "the square does not fit in the " + std::to_string(t.tile_width) + " x " +
-                            std::to_string(t.tile_height) + " tile");
-      t.rects.push_back(rect);
-    }
+    const json& sizes = required(obj, "sizes");
+    if (!sizes.is_array() || sizes.size() != size_t(quads))
+      obj.fail(obj.field("sizes"),
+               "expected an array of " + std::to_string(quads) + " integers (one per quad)");
+    t.sizes = int_array(obj, sizes, obj.field("sizes"), size_t(quads));
+    for (int q = 0; q < quads; ++q)
+      if (t.sizes[q] < 0 || t.sizes[q] > 65536)
+        obj.fail(obj.field("sizes") + "[" + std::to_string(q) + "]",
+                 "must be in [0, 65536], got " + std::to_string(t.sizes[q]));
 
     const json& baked = required(obj, "baked");
     if (!baked.is_array() || baked.size() != size_t(quads))
@@ -546,39 +519,56 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
           obj.fail(field, "character " + std::to_string(n) + " is neither '0' nor '1'");
         t.baked[q * nodes + n] = flags[n] == '1';
       }
-      if (t.rects[q].size == 0 && flags.find('1') != std::string::npos)
-        obj.fail(field, "the quad has no texels (rect size 0) but is marked baked");
     }
 
-    const JsonObject files = obj.object("files");
-    t.allocate_tiles();
+    // Each side's atlas: its size and squares, then its pixels.
+    t.slots.assign(size_t(quads) * nodes, SquareSlot{});
+    const JsonObject sides = obj.object("sides");
     for (int side = 0; side < 2; ++side) {
       const char* key = k_side_names[side];
-      const std::string field = files.field(key);
-      const bool needed = side_baked(t, side);
-      if (!files.has(key) || files.raw(key).is_null()) {
-        if (needed) files.fail(field, "missing, but this side has baked direction nodes");
-        continue;
+      if (!sides.has(key) || sides.raw(key).is_null()) continue;
+      const JsonObject sj = sides.object(key);
+      const std::vector<int> size = int_array(sj, required(sj, "size"), sj.field("size"), 2);
+      if (size[0] < 1 || size[1] < 1 || size[0] > 65536 || size[1] > 65536)
+        sj.fail(sj.field("size"), "must be two integers in [1, 65536]");
+      LookupAtlas& atlas = t.atlases[side];
+      atlas.width = size[0];
+      atlas.height = size[1];
+      const json& squares = required(sj, "squares");
+      if (!squares.is_array())
+        sj.fail(sj.field("squares"), "expected an array of [quad, node, x, y]");
+      for (size_t i = 0; i < squares.size(); ++i) {
+        const std::string field = sj.field("squares") + "[" + std::to_string(i) + "]";
+        const std::vector<int> v = int_array(sj, squares[i], field, 4);
+        const int q = v[0], n = v[1], x = v[2], y = v[3];
+        if (q < 0 || q >= quads) sj.fail(field, "quad " + std::to_string(q) + " out of range");
+        if (n < side * t.dirs.nodes_per_side() || n >= (side + 1) * t.dirs.nodes_per_side())
+          sj.fail(field, "node " + std::to_string(n) + " is not a node of the " + key + " side");
+        const int w = t.sizes[q];
+        if (w == 0) sj.fail(field, "quad " + std::to_string(q) + " has size 0");
+        if (x - t.gutter < 0 || y - t.gutter < 0 || int64_t(x) + w + t.gutter > atlas.width ||
+            int64_t(y) + w + t.gutter > atlas.height)
+          sj.fail(field, "the square and its gutter do not fit in the " +
+                             std::to_string(atlas.width) + " x " + std::to_string(atlas.height) +
+                             " atlas");
+        SquareSlot& slot = t.slots[size_t(q) * nodes + n];
+        if (slot.valid()) sj.fail(field, "a second square for the same quad and node");
+        slot = SquareSlot{x, y};
       }
-      if (!files.raw(key).is_string())
-        files.fail(field, "expected a file name or null, got " + type_name(files.raw(key)));
-      const std::string name = files.raw(key).get<std::string>();
+      const json& file = required(sj, "file");
+      if (!file.is_string()) sj.fail(sj.field("file"), "expected a file name, got " + type_name(file));
+      const std::string name = file.get<std::string>();
       if (name.empty() || name.find_first_of("/\\") != std::string::npos || name[0] == '.')
-        files.fail(field, "must be a file name inside the lookup folder, got \"" + name + "\"");
-      const std::vector<Imath::half> image =
-          read_side_image((fs::path(dir) / name).string(), field, k, t.tile_width, t.tile_height);
-      // Cut the atlas into the tiles of the nodes some quad bakes.
-      const size_t width = size_t(k) * t.tile_width;
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) {
-          std::vector<Imath::half>& tile = t.tiles[t.dirs.node_index(side, i, j)];
-          if (tile.empty()) continue;
-          for (int y = 0; y < t.tile_height; ++y)
-            std::copy_n(
-                &image[((size_t(j) * t.tile_height + y) * width + size_t(i) * t.tile_width) * 4],
-                size_t(t.tile_width) * 4, &tile[size_t(y) * t.tile_width * 4]);
-        }
+        sj.fail(sj.field("file"), "must be a file name inside the lookup folder, got \"" + name + "\"");
+      atlas.pixels = read_side_image((fs::path(dir) / name).string(), sides.field(key), atlas.width,
+                                     atlas.height);
     }
+    for (int q = 0; q < quads; ++q)
+      for (int n = 0; n < nodes; ++n)
+        if (t.is_baked(q, n) && !t.slot(q, n).valid())
+          obj.fail(obj.field("baked") + "[" + std::to_string(q) + "]",
+                   "node " + std::to_string(n) + " is marked baked but has no square in " +
+                       obj.field("sides") + "." + k_side_names[t.side_of(n)] + ".squares");
     out.cloth_hashes.push_back(cloth_hash);
     out.quad_counts.push_back(quads);
     tables.push_back(std::move(t));
@@ -630,7 +620,8 @@ std::vector<LookupTable> merge_lookups(const std::vector<std::string>& dirs, Loo
   std::vector<std::vector<LookupTable>> parts;
   parts.push_back(read_lookup(dirs[0], first_info));
   std::vector<LookupTable> merged = parts[0];
-  for (LookupTable& t : merged) t.tiles.clear();  // rebuilt below from every part
+  for (LookupTable& t : merged)
+    for (LookupAtlas& a : t.atlases) a.pixels.clear();  // rebuilt below from every part
   json part_statistics = json::array({first_info.statistics});
   int quad_begin = first_info.settings.quad_begin, quad_end = first_info.settings.quad_end;
 
@@ -670,28 +661,23 @@ std::vector<LookupTable> merge_lookups(const std::vector<std::string>& dirs, Loo
     std::fill(t.baked.begin(), t.baked.end(), 0);
     for (const auto& part : parts)
       for (size_t i = 0; i < t.baked.size(); ++i) t.baked[i] |= part[o].baked[i];
-    t.allocate_tiles();
+    t.allocate_atlases();
     const int nodes = t.node_count(), g = t.gutter;
-    for (size_t q = 0; q < t.rects.size(); ++q) {
-      const QuadRect& r = t.rects[q];
-      const int x0 = std::max(0, r.x - g), x1 = std::min(t.tile_width, r.x + r.size + g);
-      const int y0 = std::max(0, r.y - g), y1 = std::min(t.tile_height, r.y + r.size + g);
+    for (int q = 0; q < t.quad_count(); ++q)
       for (int n = 0; n < nodes; ++n)
         for (const auto& part : parts) {
-          if (!part[o].is_baked(int(q), n)) continue;
-          for (int y = y0; y < y1; ++y) {
-            const size_t at = (size_t(y) * t.tile_width + x0) * 4;
-            std::copy_n(&part[o].tiles[n][at], size_t(x1 - x0) * 4, &t.tiles[n][at]);
-          }
+          if (!part[o].is_baked(q, n)) continue;
+          const int w = t.sizes[q] + 2 * g;
+          for (int b = -g; b < t.sizes[q] + g; ++b)
+            std::copy_n(part[o].texel(q, n, -g, b), size_t(w) * 4, t.texel(q, n, -g, b));
           break;
         }
-    }
   }
 
   // A union reaching the last quad of every object reads as "to the last" (-1),
   // as in a whole bake.
   int most_quads = 0;
-  for (const LookupTable& t : merged) most_quads = std::max(most_quads, int(t.rects.size()));
+  for (const LookupTable& t : merged) most_quads = std::max(most_quads, t.quad_count());
   info = first_info;
   info.settings.quad_begin = quad_begin;
   info.settings.quad_end = quad_end >= most_quads ? -1 : quad_end;
@@ -701,10 +687,7 @@ std::vector<LookupTable> merge_lookups(const std::vector<std::string>& dirs, Loo
 
 uint64_t lookup_bytes(const std::vector<LookupTable>& tables) {
   uint64_t bytes = 0;
-  for (const LookupTable& t : tables)
-    for (int side = 0; side < 2; ++side)
-      if (side_baked(t, side))
-        bytes += uint64_t(t.dirs.k) * t.tile_width * uint64_t(t.dirs.k) * t.tile_height * 4 * 2;
+  for (const LookupTable& t : tables) bytes += t.atlas_bytes();
   return bytes;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// Reading and writing a baked lookup folder (format: docs/lookup-format.md):
 /// `manifest.json` plus, per cloth object and side (front/back), one
-/// half-float RGBA OpenEXR atlas holding the K x K direction tiles.
+/// half-float RGBA OpenEXR atlas packing the squares of the (quad, direction
+/// node) pairs the bake computed.
 
 #include <cstdint>
 #include <string>
@@ -15,7 +16,7 @@
 
 namespace clothbake::io {
 
-inline constexpr int k_lookup_format_version = 1;
+inline constexpr int k_lookup_format_version = 2;
 
 /// What the manifest records besides the tables themselves.
 struct LookupInfo {

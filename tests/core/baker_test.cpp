@@ -147,7 +147,12 @@ TEST(Baker, AdaptivePlanBakesOnlyWhatTheCameraSees) {
   // direction) at most: 48 of 256.
   EXPECT_LE(front, 48);
   // The quad spans the 32-pixel image (and beyond): about 1.5 texels per pixel.
-  EXPECT_GE(t.rects[0].size, 40);
+  EXPECT_GE(t.sizes[0], 40);
+  // Packed: only the baked nodes' squares are stored, so the front atlas
+  // holds `front` squares (plus gutters), not K^2.
+  EXPECT_LE(int64_t(t.atlases[0].width) * t.atlases[0].height,
+            int64_t(front) * (t.sizes[0] + 2) * (t.sizes[0] + 2) * 2);
+  EXPECT_EQ(t.atlases[1].width, 0);
   EXPECT_LT(plan.texel_direction_samples, plan.full_texel_direction_samples);
 }
 
@@ -178,11 +183,11 @@ TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
   s.quad_begin = 1;
   s.quad_end = 3;
   const BakePlan part = plan_bake(renderer, s);
-  ASSERT_EQ(whole.objects[0].tile_width, part.objects[0].tile_width);
-  for (int q = 0; q < 4; ++q) {
-    EXPECT_EQ(whole.objects[0].rects[q].x, part.objects[0].rects[q].x);
-    EXPECT_EQ(part.objects[0].quad_baked(q), q == 1 || q == 2);
-  }
+  ASSERT_EQ(whole.objects[0].atlases[0].width, part.objects[0].atlases[0].width);
+  ASSERT_EQ(whole.objects[0].atlases[1].height, part.objects[0].atlases[1].height);
+  for (size_t i = 0; i < whole.objects[0].slots.size(); ++i)
+    EXPECT_EQ(whole.objects[0].slots[i].x, part.objects[0].slots[i].x);
+  for (int q = 0; q < 4; ++q) EXPECT_EQ(part.objects[0].quad_baked(q), q == 1 || q == 2);
   std::vector<LookupTable> one, two;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
@@ -192,10 +197,10 @@ TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
     two = run_bake(renderer, part, s);
   }
-  for (size_t n = 0; n < one[0].tiles.size(); ++n) {
-    ASSERT_EQ(one[0].tiles[n].size(), two[0].tiles[n].size());
-    EXPECT_EQ(0, std::memcmp(one[0].tiles[n].data(), two[0].tiles[n].data(),
-                             one[0].tiles[n].size() * sizeof(Imath::half)));
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<Imath::half>&a = one[0].atlases[side].pixels, &b = two[0].atlases[side].pixels;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Imath::half)));
   }
 }
 

@@ -22,38 +22,42 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr int kK = 3;
-constexpr int kTileW = 16, kTileH = 6;
 
 // Nodes each quad bakes in the whole table: both sides in use, node 8 (the
 // last of the front side) and most of the back side baked by no quad.
 const std::vector<std::vector<int>> kBakedNodes = {{0, 4, 13}, {4, 5}, {17}};
+// The same without back-side nodes.
+const std::vector<std::vector<int>> kFrontNodes = {{0, 4}, {4, 5}, {1}};
+const std::vector<int> kSizes = {4, 3, 2};
 
 float texel_value(int q, int node, int a, int b, int c) {
   return float((q + 1) * 1000 + node * 37 + a * 7 + b * 3 + c) / 64.0f - 20.0f;
 }
 
 /// The lookup of three quads that a bake of the quads in `quads` would
-/// produce: the shared layout, flags only for those quads, their texels, gutters.
-LookupTable make_table(const std::set<int>& quads) {
+/// produce: the whole bake's layout (squares for every node of `nodes`),
+/// flags only for those quads, their texels, gutters.
+LookupTable make_table(const std::set<int>& quads,
+                       const std::vector<std::vector<int>>& nodes = kBakedNodes,
+                       const std::vector<int>& sizes = kSizes) {
   LookupTable t;
   t.dirs.k = kK;
-  t.tile_width = kTileW;
-  t.tile_height = kTileH;
   t.gutter = 1;
-  t.rects = {{1, 1, 4}, {7, 1, 3}, {12, 1, 2}};
-  t.baked.assign(t.rects.size() * size_t(t.node_count()), 0);
+  t.sizes = sizes;
+  std::vector<uint8_t> wanted(t.sizes.size() * size_t(t.node_count()), 0);
+  for (size_t q = 0; q < nodes.size(); ++q)
+    for (int node : nodes[q]) wanted[q * t.node_count() + node] = 1;
+  t.pack(wanted);
+  t.baked.assign(wanted.size(), 0);
   for (int q : quads)
-    for (int node : kBakedNodes[q]) t.baked[size_t(q) * t.node_count() + node] = 1;
-  t.allocate_tiles();
-  for (int q : quads) {
-    const QuadRect& r = t.rects[q];
-    for (int node : kBakedNodes[q])
-      for (int b = 0; b < r.size; ++b)
-        for (int a = 0; a < r.size; ++a)
+    for (int node : nodes[q]) t.baked[size_t(q) * t.node_count() + node] = 1;
+  t.allocate_atlases();
+  for (int q : quads)
+    for (int node : nodes[q])
+      for (int b = 0; b < t.sizes[q]; ++b)
+        for (int a = 0; a < t.sizes[q]; ++a)
           for (int c = 0; c < 4; ++c)
-            t.tiles[node][((size_t(r.y + b) * kTileW) + r.x + a) * 4 + c] =
-                Imath::half(texel_value(q, node, a, b, c));
-  }
+            t.texel(q, node, a, b)[c] = Imath::half(texel_value(q, node, a, b, c));
   t.fill_gutters();
   return t;
 }
@@ -98,23 +102,23 @@ LookupInfo make_info(const Scene& scene) {
 
 void expect_same_tables(const LookupTable& a, const LookupTable& b) {
   EXPECT_EQ(a.dirs.k, b.dirs.k);
-  EXPECT_EQ(a.tile_width, b.tile_width);
-  EXPECT_EQ(a.tile_height, b.tile_height);
   EXPECT_EQ(a.gutter, b.gutter);
-  ASSERT_EQ(a.rects.size(), b.rects.size());
-  for (size_t q = 0; q < a.rects.size(); ++q) {
-    EXPECT_EQ(a.rects[q].x, b.rects[q].x) << q;
-    EXPECT_EQ(a.rects[q].y, b.rects[q].y) << q;
-    EXPECT_EQ(a.rects[q].size, b.rects[q].size) << q;
-  }
+  EXPECT_EQ(a.sizes, b.sizes);
   EXPECT_EQ(a.baked, b.baked);
-  ASSERT_EQ(a.tiles.size(), b.tiles.size());
-  for (size_t n = 0; n < a.tiles.size(); ++n) {
-    ASSERT_EQ(a.tiles[n].size(), b.tiles[n].size()) << "node " << n;
+  ASSERT_EQ(a.slots.size(), b.slots.size());
+  for (size_t i = 0; i < a.slots.size(); ++i) {
+    EXPECT_EQ(a.slots[i].x, b.slots[i].x) << i;
+    EXPECT_EQ(a.slots[i].y, b.slots[i].y) << i;
+  }
+  for (int side = 0; side < 2; ++side) {
+    const LookupAtlas &aa = a.atlases[side], &ab = b.atlases[side];
+    EXPECT_EQ(aa.width, ab.width) << side;
+    EXPECT_EQ(aa.height, ab.height) << side;
+    ASSERT_EQ(aa.pixels.size(), ab.pixels.size()) << "side " << side;
     size_t differing = 0;
-    for (size_t i = 0; i < a.tiles[n].size(); ++i)
-      differing += a.tiles[n][i].bits() != b.tiles[n][i].bits();
-    EXPECT_EQ(differing, 0u) << "node " << n;
+    for (size_t i = 0; i < aa.pixels.size(); ++i)
+      differing += aa.pixels[i].bits() != ab.pixels[i].bits();
+    EXPECT_EQ(differing, 0u) << "side " << side;
   }
 }
 
@@ -185,7 +189,7 @@ TEST_F(LookupIo, RoundTripKeepsEveryHalfAndField) {
   const std::vector<LookupTable> tables = read_lookup(dir, back, info.scene_hash);
   ASSERT_EQ(tables.size(), 1u);
   expect_same_tables(table, tables[0]);
-  EXPECT_TRUE(tables[0].tiles[8].empty());  // no quad bakes node 8
+  for (int q = 0; q < 3; ++q) EXPECT_FALSE(tables[0].slot(q, 8).valid());  // nobody bakes node 8
   EXPECT_EQ(back.scene_path, info.scene_path);
   EXPECT_EQ(back.scene_hash, info.scene_hash);
   EXPECT_EQ(back.cloth_hashes, info.cloth_hashes);
@@ -205,53 +209,64 @@ TEST_F(LookupIo, RoundTripKeepsEveryHalfAndField) {
   // The manifest as documented.
   const json m = json::parse(file_bytes(fs::path(dir) / "manifest.json"));
   EXPECT_EQ(m["format"], "clothbake-lookup");
-  EXPECT_EQ(m["version"], 1);
+  EXPECT_EQ(m["version"], 2);
   EXPECT_EQ(m["direction_map"]["k"], kK);
   EXPECT_EQ(m["lights"].size(), 2u);
   EXPECT_EQ(m["lights"][0]["type"], "directional");
   EXPECT_EQ(m["lights"][1]["position"], json::array({1.0f, 2.0f, 3.0f}));
   const json& o = m["objects"][0];
   EXPECT_EQ(o["name"], "cloth");
-  EXPECT_EQ(o["tile"], json::array({kTileW, kTileH}));
-  EXPECT_EQ(o["rects"][1], json::array({7, 1, 3}));
+  EXPECT_EQ(o["sizes"], json::array({4, 3, 2}));
   EXPECT_EQ(o["baked"][1], "000011000000000000");
-  EXPECT_EQ(o["files"]["front"], "object0_side0.exr");
-  EXPECT_EQ(o["files"]["back"], "object0_side1.exr");
-  EXPECT_EQ(lookup_bytes(tables), 2u * (kK * kTileW) * (kK * kTileH) * 4 * 2);
+  EXPECT_EQ(o["sides"]["front"]["file"], "object0_side0.exr");
+  EXPECT_EQ(o["sides"]["back"]["file"], "object0_side1.exr");
+  // Squares: every (quad, node) of the whole layout, once, front nodes on the front.
+  EXPECT_EQ(o["sides"]["front"]["squares"].size(), 4u);  // (0,0) (0,4) (1,4) (1,5)
+  EXPECT_EQ(o["sides"]["back"]["squares"].size(), 2u);   // (0,13) (2,17)
+  EXPECT_EQ(lookup_bytes(tables), table.atlas_bytes());
+  // Packed: the back atlas holds a 4 x 4 and a 2 x 2 square with gutters only.
+  EXPECT_LE(table.atlases[1].width * table.atlases[1].height, 2 * (6 * 6 + 4 * 4));
 
-  // The atlas: node (side 1, i, j) = node 9 + 3 j + i in the tile at (i w, j h).
+  // The atlas: texel (a, b) of (quad, node) at the square's (x + a, y + b).
   auto in = OIIO::ImageInput::open((fs::path(dir) / "object0_side1.exr").string());
   ASSERT_TRUE(in);
-  EXPECT_EQ(in->spec().width, kK * kTileW);
-  EXPECT_EQ(in->spec().height, kK * kTileH);
+  const int w = table.atlases[1].width, h = table.atlases[1].height;
+  EXPECT_EQ(in->spec().width, w);
+  EXPECT_EQ(in->spec().height, h);
+  EXPECT_EQ(o["sides"]["back"]["size"], json::array({w, h}));
   EXPECT_EQ(in->spec().format, OIIO::TypeDesc::HALF);
   EXPECT_EQ(in->spec().get_string_attribute("DateTime"), "");  // same bytes on every write
-  std::vector<Imath::half> pixels(size_t(kK * kTileW) * kK * kTileH * 4);
+  std::vector<Imath::half> pixels(size_t(w) * h * 4);
   ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::HALF, pixels.data()));
-  const int i = 1, j = 1, x = 2, y = 3;  // node 13, texel (1, 2) of quad 0
-  const size_t at = ((size_t(j) * kTileH + y) * (kK * kTileW) + size_t(i) * kTileW + x) * 4;
+  json square;
+  for (const json& sq : o["sides"]["back"]["squares"])
+    if (sq[0] == 0 && sq[1] == 13) square = sq;
+  ASSERT_FALSE(square.is_null());
+  const int x = square[2].get<int>() + 1, y = square[3].get<int>() + 2;  // texel (1, 2)
+  const size_t at = (size_t(y) * w + x) * 4;
   EXPECT_EQ(float(pixels[at + 2]), float(Imath::half(texel_value(0, 13, 1, 2, 2))));
 }
 
 TEST_F(LookupIo, UnbakedSideHasNoFile) {
   const Scene scene = make_scene();
-  const LookupTable table = make_table({1});  // quad 1 bakes front nodes only
+  const LookupTable table = make_table({0, 1, 2}, kFrontNodes);  // no back-side node at all
   const std::string dir = (m_dir / "front_only").string();
   write_lookup(dir, {table}, make_info(scene), scene);
   EXPECT_TRUE(fs::exists(fs::path(dir) / "object0_side0.exr"));
   EXPECT_FALSE(fs::exists(fs::path(dir) / "object0_side1.exr"));
   const json m = json::parse(file_bytes(fs::path(dir) / "manifest.json"));
-  EXPECT_TRUE(m["objects"][0]["files"]["back"].is_null());
+  EXPECT_TRUE(m["objects"][0]["sides"]["back"].is_null());
   LookupInfo back;
   expect_same_tables(table, read_lookup(dir, back)[0]);
-  EXPECT_EQ(lookup_bytes({table}), uint64_t(kK * kTileW) * (kK * kTileH) * 4 * 2);
+  EXPECT_EQ(lookup_bytes({table}),
+            uint64_t(table.atlases[0].width) * table.atlases[0].height * 4 * 2);
 }
 
 TEST_F(LookupIo, WritingOverAFolderReplacesItAndLeavesNoTemporaries) {
   const Scene scene = make_scene();
   const std::string dir = write_whole("bake");
   std::ofstream(fs::path(dir) / "stray.txt") << "from before";
-  const LookupTable front_only = make_table({1});
+  const LookupTable front_only = make_table({1}, kFrontNodes);
   write_lookup(dir, {front_only}, make_info(scene), scene);
   LookupInfo back;
   expect_same_tables(front_only, read_lookup(dir, back)[0]);
@@ -268,9 +283,9 @@ TEST_F(LookupIo, FailureMidWriteLeavesTheFolderIntact) {
   const Scene scene = make_scene();
   const std::string dir = write_whole("bake");
   const std::string before = file_bytes(fs::path(dir) / "object0_side0.exr");
-  // The back side's tile is broken: the front atlas is written first, then this fails.
+  // The back side's atlas is broken: refused before anything replaces `dir`.
   LookupTable broken = make_table({0, 1, 2});
-  broken.tiles[17].resize(5);
+  broken.atlases[1].pixels.resize(5);
   EXPECT_THROW(write_lookup(dir, {broken}, make_info(scene), scene), InputError);
   EXPECT_TRUE(leftovers().empty());
   EXPECT_EQ(error_of(dir), "(no error)");
@@ -303,10 +318,10 @@ TEST_F(LookupIo, RefusesToReplaceAFolderThatIsNotALookup) {
 
 TEST_F(LookupIo, ManifestErrorsNameTheFileAndField) {
   auto manifest = [](const std::string& dir) { return dir + "/manifest.json"; };
-  std::string dir = write_whole("version", [](json& m) { m["version"] = 2; });
+  std::string dir = write_whole("version", [](json& m) { m["version"] = 1; });
   EXPECT_EQ(error_of(dir), manifest(dir) +
-                               " | version | this lookup has format version 2; this clothbake "
-                               "reads version 1");
+                               " | version | this lookup has format version 1; this clothbake "
+                               "reads version 2");
 
   dir = write_whole("format", [](json& m) { m["format"] = "something-else"; });
   EXPECT_EQ(error_of(dir).rfind(manifest(dir) + " | format | ", 0), 0u) << error_of(dir);
@@ -321,10 +336,21 @@ TEST_F(LookupIo, ManifestErrorsNameTheFileAndField) {
   EXPECT_EQ(error_of(dir).rfind(manifest(dir) + " | objects[0].baked[2] | ", 0), 0u)
       << error_of(dir);
 
-  dir = write_whole("rect", [](json& m) { m["objects"][0]["rects"][2] = {15, 1, 2}; });
+  dir = write_whole("square", [](json& m) { m["objects"][0]["sides"]["back"]["squares"][1][2] = 99; });
+  EXPECT_EQ(error_of(dir).rfind(manifest(dir) +
+                                    " | objects[0].sides.back.squares[1] | the square and its "
+                                    "gutter do not fit in the ",
+                                0),
+            0u)
+      << error_of(dir);
+  dir = write_whole("square_node", [](json& m) { m["objects"][0]["sides"]["back"]["squares"][0][1] = 3; });
   EXPECT_EQ(error_of(dir), manifest(dir) +
-                               " | objects[0].rects[2] | the square does not fit in the 16 x 6 "
-                               "tile");
+                               " | objects[0].sides.back.squares[0] | node 3 is not a node of "
+                               "the back side");
+  dir = write_whole("no_square", [](json& m) { m["objects"][0]["baked"][2] = "000000000000000011"; });
+  EXPECT_EQ(error_of(dir), manifest(dir) +
+                               " | objects[0].baked[2] | node 16 is marked baked but has no "
+                               "square in objects[0].sides.back.squares");
 
   dir = write_whole("hash");
   EXPECT_EQ(error_of(dir, "ffffffffffffffff"),
@@ -341,9 +367,14 @@ TEST_F(LookupIo, ManifestErrorsNameTheFileAndField) {
   fs::resize_file(exr, fs::file_size(exr) / 2);
   EXPECT_EQ(error_of(dir).rfind(exr.string() + " |  | cannot read", 0), 0u) << error_of(dir);
 
-  // The manifest promises a bigger tile than the atlas has.
-  dir = write_whole("size", [](json& m) { m["objects"][0]["tile"] = {kTileW + 1, kTileH}; });
-  EXPECT_EQ(error_of(dir).rfind(dir + "/object0_side0.exr |  | is 48 x 18 pixels", 0), 0u)
+  // The manifest promises a bigger atlas than the image has.
+  dir = write_whole("size", [](json& m) {
+    json& size = m["objects"][0]["sides"]["front"]["size"];
+    size[0] = size[0].get<int>() + 1;
+  });
+  EXPECT_NE(error_of(dir).find("/object0_side0.exr |  | is "), std::string::npos) << error_of(dir);
+  EXPECT_NE(error_of(dir).find("pixels; the manifest (objects[0].sides.front.size) says "),
+            std::string::npos)
       << error_of(dir);
 }
 
@@ -404,15 +435,14 @@ TEST_F(LookupIo, MergeRefusesPartsOfAnotherScene) {
 
   // Same scene, another layout.
   info = make_info(scene);
-  LookupTable moved = make_table({1});
-  moved.rects[2].x = 11;
+  const LookupTable moved = make_table({1}, kBakedNodes, {4, 3, 3});
   write_lookup(b, {moved}, info, scene);
   try {
     (void)merge_lookups({a, b}, merged);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), b);
-    EXPECT_EQ(e.message(), "objects[0].rects[2] differs from " + a);
+    EXPECT_EQ(e.message(), "objects[0].sizes differs from " + a);
   }
 }
 
