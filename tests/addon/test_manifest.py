@@ -27,10 +27,13 @@ def test_reads_a_real_bake(slab_bake):
     lookup = read_manifest(slab_bake)
     assert lookup.k == 3 and lookup.direction_map == "hemi-octahedral"
     (obj,) = lookup.objects
-    assert obj.quads == 1 and len(obj.rects) == 1 and obj.rects[0][2] == 4
+    assert obj.quads == 1 and obj.sizes == [4]
     assert obj.baked[0] == "1" * 18
-    assert obj.atlas_size(3) == (3 * obj.tile_width, 3 * obj.tile_height)
-    assert os.path.isfile(obj.files["front"]) and os.path.isfile(obj.files["back"])
+    front, back = obj.sides["front"], obj.sides["back"]
+    assert os.path.isfile(front.path) and os.path.isfile(back.path)
+    # A full bake: all 9 nodes of each side have a square.
+    assert sorted(front.squares) == [(0, n) for n in range(9)]
+    assert sorted(back.squares) == [(0, n) for n in range(9, 18)]
 
 
 def broken(slab_bake, tmp_path, edit):
@@ -44,24 +47,26 @@ def broken(slab_bake, tmp_path, edit):
 
 CASES = [
     ("format", lambda m, f: m.update(format="other"), "format: not a clothbake lookup"),
-    ("version", lambda m, f: m.update(version=2),
-     "version: this lookup has format version 2; this add-on reads version 1"),
+    ("version", lambda m, f: m.update(version=1),
+     "version: this lookup has format version 1; this add-on reads version 2"),
     ("k", lambda m, f: m["direction_map"].update(k=65), "direction_map.k: must be in [2, 64], got 65"),
     ("map", lambda m, f: m["direction_map"].update(type="cube"),
      "direction_map.type: unknown direction map 'cube'"),
-    ("rects", lambda m, f: m["objects"][0]["rects"].append([0, 0, 1]),
-     "objects[0].rects: has 2 entries, expected one per quad (1)"),
-    ("rect outside", lambda m, f: m["objects"][0]["rects"].__setitem__(0, [1000, 0, 4]),
-     "objects[0].rects[0]: square [1000, 0, 4] lies outside"),
+    ("sizes", lambda m, f: m["objects"][0]["sizes"].append(4),
+     "objects[0].sizes: must be 1 integers in [0, 65536] (one per quad)"),
+    ("square outside", lambda m, f: m["objects"][0]["sides"]["front"]["squares"][0].__setitem__(2, 1000),
+     "objects[0].sides.front.squares[0]: the square and its gutter do not fit in the"),
+    ("square node", lambda m, f: m["objects"][0]["sides"]["back"]["squares"][0].__setitem__(1, 0),
+     "objects[0].sides.back.squares[0]: node 0 is not a node of the back side"),
     ("flags", lambda m, f: m["objects"][0]["baked"].__setitem__(0, "10"),
      "objects[0].baked[0]: must be a string of 18 characters '0' or '1'"),
-    ("tile type", lambda m, f: m["objects"][0].update(tile="big"),
-     "objects[0].tile: must be list"),
-    ("no file", lambda m, f: m["objects"][0]["files"].update(front=None),
-     "objects[0].files.front: the front side has baked nodes but no file"),
-    ("path in name", lambda m, f: m["objects"][0]["files"].update(front="../x.exr"),
-     "objects[0].files.front: must be a file name in the lookup folder"),
-    ("missing image", lambda m, f: os.remove(f / m["objects"][0]["files"]["back"]),
+    ("sizes type", lambda m, f: m["objects"][0].update(sizes="big"),
+     "objects[0].sizes: must be list"),
+    ("no side", lambda m, f: m["objects"][0]["sides"].update(front=None),
+     "objects[0].baked[0]: node 0 is marked baked but has no square in objects[0].sides.front"),
+    ("path in name", lambda m, f: m["objects"][0]["sides"]["front"].update(file="../x.exr"),
+     "objects[0].sides.front.file: must be a file name in the lookup folder"),
+    ("missing image", lambda m, f: os.remove(f / m["objects"][0]["sides"]["back"]["file"]),
      "the lookup image is missing"),
     ("hash", lambda m, f: m.update(scene_hash="XYZ"), "scene_hash: must be 16 lowercase hex digits"),
     ("missing key", lambda m, f: m.pop("objects"), "objects: missing key"),

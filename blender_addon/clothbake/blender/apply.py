@@ -15,9 +15,11 @@ layout.frame_from_attributes, which the tests check in plain Python):
      patch's, never flipped toward the viewer, so back faces read side 1;
   3. side = d.z < 0; the hemi-octahedral (u, v) of d; grid position
      (u, v)(K - 1); the four nodes i0..i0+1, j0..j0+1 and weights fx, fy;
-  4. per side, four Image Texture reads of the atlas at tile (i, j):
-     ((i + u_tile) / K, (K - 1 - j + v_tile) / K), blended bilinearly
-     (colour and alpha alike); the side picked by `side`;
+  4. per side and node, the square's origin in the packed atlas from the
+     side's index image (pixel (node, quad), Closest; layout.index_pixels),
+     then the atlas at origin + (s, t) x size / (W, H), Linear; texels of
+     unbaked pairs multiplied by 0; the four blended bilinearly (colour and
+     alpha alike); the side picked by `side`;
   5. Emission(RGB) + Transparent(1 - A): the lookup's RGB is premultiplied,
      so this is exactly "RGB + (1 - A) x behind", the same as Emission of
      RGB / A mixed with Transparent by A, without dividing by A.
@@ -31,7 +33,7 @@ import bpy
 
 from ..core import directions
 from ..core.errors import ClothbakeError
-from ..core.layout import corner_frames, face_attributes
+from ..core.layout import corner_frames, face_attributes, index_pixels
 from ..core.manifest import read_manifest
 from .graph import Graph
 
@@ -88,7 +90,6 @@ def write_mesh_layers(obj, lookup, lookup_object):
         raise ClothbakeError(f"mesh '{obj.name}' has no UV map; the weave follows the UVs")
 
     to_world = obj.matrix_world
-    tw, th = lookup_object.tile_width, lookup_object.tile_height
     values = {name: [] for name in FACE_ATTRS}
     degenerate = 0
     for poly in mesh.polygons:
@@ -96,11 +97,11 @@ def write_mesh_layers(obj, lookup, lookup_object):
         corners = [tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
                    for li in loops]
         uvs = [tuple(weave.data[li].uv) for li in loops]
-        rect = lookup_object.rects[poly.index]
+        size = lookup_object.sizes[poly.index]
         if corner_frames(corners, uvs) is None:
             degenerate += 1
-            rect = (0, 0, 0)  # reads the zero texel at the tile's corner: transparent
-        attrs = face_attributes(corners, uvs, rect, tw, th)
+            size = 0  # texels multiplied by the unbaked flag: transparent
+        attrs = face_attributes(corners, uvs, poly.index, size)
         for name in FACE_ATTRS:
             values[name].extend(attrs[name])
     for name in FACE_ATTRS:
@@ -127,10 +128,28 @@ def _load_image(path):
     return image
 
 
-def build_group(name, k, aspect, images):
-    """The node group: Shader output of the lookup for atlases
-    images = {"front": Image or None, "back": Image or None}; aspect =
-    tile_width / tile_height."""
+def _index_image(name, lookup_object, side, k):
+    """The side's index image (layout.index_pixels), made in memory and
+    packed into the .blend so a saved file keeps it. Float32, Closest: it
+    holds addresses, not colours."""
+    image = bpy.data.images.get(name)
+    if image is not None:
+        bpy.data.images.remove(image)
+    image = bpy.data.images.new(name, width=k * k, height=max(1, lookup_object.quads), alpha=True,
+                                float_buffer=True, is_data=True)
+    image.colorspace_settings.name = "Non-Color"
+    image.alpha_mode = "CHANNEL_PACKED"
+    if hasattr(image, "use_half_precision"):
+        image.use_half_precision = False
+    image.pixels.foreach_set(index_pixels(lookup_object, side, k))
+    image.update()
+    image.pack()
+    return image
+
+
+def build_group(name, k, quads, sides):
+    """The node group: Shader output of the lookup. sides = {"front": (atlas
+    Image, index Image, width, height) or None, "back": ...}."""
     group = bpy.data.node_groups.get(name)
     if group is not None:
         bpy.data.node_groups.remove(group)
@@ -224,53 +243,60 @@ def build_group(name, k, aspect, images):
     i0, fx = node_and_weight(u)
     j0, fy = node_and_weight(v)
 
-    # 4. Atlas coordinates of the four tiles: the face's square in tile
-    # units (u_tile = x0 + s w, v_tile = y0 + t w aspect), then tile (i, j)
-    # at ((i + u_tile) / K, (K - 1 - j + v_tile) / K), rows counted from the top.
-    sq_x, sq_y, sq_w = g.separate(attr["square"], column=16)
-    u_tile = g.math("MULTIPLY_ADD", s, sq_w, sq_x, column=17)
-    v_tile = g.math("MULTIPLY_ADD", t, g.math("MULTIPLY", sq_w, aspect, column=17), sq_y,
-                    column=17)
-    inv_k = 1.0 / k
-    atlas_uv = {}
+    # 4. Per side and node: the square's origin from the index image (pixel
+    # (node, quad), Closest), then the atlas at origin + (s, t) size / (W, H).
+    quad, size, _ = g.separate(attr["square"], column=16)
+    index_v = g.math("MULTIPLY", g.math("ADD", quad, 0.5, column=17), 1.0 / max(1, quads),
+                     column=17)
+    index_uv = {}
     for di in (0, 1):
         for dj in (0, 1):
-            col = g.math("ADD", g.math("ADD", i0, float(di), column=18), u_tile, column=18)
-            row = g.math("ADD", g.math("SUBTRACT", float(k - 1 - dj), j0, column=18), v_tile,
-                         column=18)
-            atlas_uv[di, dj] = g.combine(g.math("MULTIPLY", col, inv_k, column=19),
-                                         g.math("MULTIPLY", row, inv_k, column=19), column=19)
+            node = g.math("ADD", g.math("MULTIPLY_ADD", g.math("ADD", j0, float(dj), column=18),
+                                        float(k), i0, column=18), float(di) + 0.5, column=18)
+            index_uv[di, dj] = g.combine(g.math("MULTIPLY", node, 1.0 / (k * k), column=19),
+                                         index_v, column=19)
 
-    def side_value(image, column):
-        if image is None:
+    def side_value(entry, column):
+        if entry is None:
             return (0.0, 0.0, 0.0, 1.0), 0.0
-        reads = {}
-        for key, vec in atlas_uv.items():
-            tex = g.node("ShaderNodeTexImage", column, image=image, interpolation="Linear",
+        atlas, index, width, height = entry
+        du = g.math("MULTIPLY", size, 1.0 / width, column=column)
+        dv = g.math("MULTIPLY", size, 1.0 / height, column=column)
+        colors, alphas = {}, {}
+        for key, vec in index_uv.items():
+            where = g.node("ShaderNodeTexImage", column, image=index, interpolation="Closest",
+                           extension="EXTEND", label="square origin")
+            g.feed(where.inputs["Vector"], vec)
+            x0, y0, baked = g.separate(where.outputs["Color"], column=column + 1)
+            uv = g.combine(g.math("MULTIPLY_ADD", s, du, x0, column=column + 1),
+                           g.math("MULTIPLY_ADD", t, dv, y0, column=column + 1),
+                           column=column + 1)
+            tex = g.node("ShaderNodeTexImage", column + 2, image=atlas, interpolation="Linear",
                          extension="EXTEND")
-            g.feed(tex.inputs["Vector"], vec)
-            reads[key] = tex
-        c0 = g.mix_color(reads[0, 0].outputs["Color"], reads[1, 0].outputs["Color"], fx, column + 1)
-        c1 = g.mix_color(reads[0, 1].outputs["Color"], reads[1, 1].outputs["Color"], fx, column + 1)
-        a0 = g.lerp(reads[0, 0].outputs["Alpha"], reads[1, 0].outputs["Alpha"], fx, column + 1)
-        a1 = g.lerp(reads[0, 1].outputs["Alpha"], reads[1, 1].outputs["Alpha"], fx, column + 1)
-        return g.mix_color(c0, c1, fy, column + 2), g.lerp(a0, a1, fy, column + 2)
+            g.feed(tex.inputs["Vector"], uv)
+            colors[key] = g.scale(tex.outputs["Color"], baked, column + 3)
+            alphas[key] = g.math("MULTIPLY", tex.outputs["Alpha"], baked, column=column + 3)
+        c0 = g.mix_color(colors[0, 0], colors[1, 0], fx, column + 4)
+        c1 = g.mix_color(colors[0, 1], colors[1, 1], fx, column + 4)
+        a0 = g.lerp(alphas[0, 0], alphas[1, 0], fx, column + 4)
+        a1 = g.lerp(alphas[0, 1], alphas[1, 1], fx, column + 4)
+        return g.mix_color(c0, c1, fy, column + 5), g.lerp(a0, a1, fy, column + 5)
 
-    front_c, front_a = side_value(images.get("front"), 20)
-    back_c, back_a = side_value(images.get("back"), 23)
-    color = g.mix_color(front_c, back_c, side, 26)
-    alpha = g.lerp(front_a, back_a, side, 26)
+    front_c, front_a = side_value(sides.get("front"), 20)
+    back_c, back_a = side_value(sides.get("back"), 26)
+    color = g.mix_color(front_c, back_c, side, 32)
+    alpha = g.lerp(front_a, back_a, side, 32)
 
     # 4. Premultiplied radiance over what is behind.
-    emission = g.node("ShaderNodeEmission", 27)
+    emission = g.node("ShaderNodeEmission", 33)
     g.feed(emission.inputs["Color"], color)
     emission.inputs["Strength"].default_value = 1.0
-    transparent = g.node("ShaderNodeBsdfTransparent", 27)
-    g.feed(transparent.inputs["Color"], g.math("SUBTRACT", 1.0, alpha, column=27, clamp=True))
-    add = g.node("ShaderNodeAddShader", 28)
+    transparent = g.node("ShaderNodeBsdfTransparent", 33)
+    g.feed(transparent.inputs["Color"], g.math("SUBTRACT", 1.0, alpha, column=33, clamp=True))
+    add = g.node("ShaderNodeAddShader", 34)
     g.links.new(emission.outputs[0], add.inputs[0])
     g.links.new(transparent.outputs[0], add.inputs[1])
-    out = g.node("NodeGroupOutput", 29)
+    out = g.node("NodeGroupOutput", 35)
     g.links.new(add.outputs[0], out.inputs["Shader"])
     g.links.new(color, out.inputs["Color"])
     g.links.new(alpha, out.inputs["Alpha"])
@@ -291,9 +317,14 @@ def apply_lookup(obj, folder):
                              os.path.join(lookup.folder, "manifest.json"), "direction_map.type")
     lobj = pick_lookup_object(lookup, obj)
     degenerate = write_mesh_layers(obj, lookup, lobj)
-    images = {side: (_load_image(path) if path else None) for side, path in lobj.files.items()}
-    group = build_group(f"clothbake {obj.name}", lookup.k, lobj.tile_width / lobj.tile_height,
-                        images)
+    sides = {}
+    for side, key in enumerate(("front", "back")):
+        atlas = lobj.sides[key]
+        sides[key] = None if atlas is None else (
+            _load_image(atlas.path),
+            _index_image(f"clothbake {obj.name} {key} index", lobj, side, lookup.k),
+            atlas.width, atlas.height)
+    group = build_group(f"clothbake {obj.name}", lookup.k, lobj.quads, sides)
 
     material = bpy.data.materials.get(f"clothbake {obj.name}") or \
         bpy.data.materials.new(f"clothbake {obj.name}")

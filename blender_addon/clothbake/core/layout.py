@@ -1,41 +1,23 @@
 """Where a quad's texels are, and its local frame: what the Blender layer
-writes onto a mesh so plain shader nodes can address the lookup.
+writes onto a mesh and into small images so plain shader nodes can address
+a packed lookup (docs/lookup-format.md, version 2).
 
-Two things per face corner, both derived here without Blender:
-
-* the **lookup UV** of the corner: the generated per-quad layout of
-  docs/lookup-format.md, in units of one direction tile with a bottom-left
-  origin, so the shader reaches tile (i, j) of an atlas with
-  ``u = (i + u_tile) / K`` and ``v = (K - 1 - j + v_tile) / K``;
-* the **local frame** (T, N) of the quad's bilinear patch at the corner,
-  world space, exactly as baker/core/quad_patch.cpp computes it: N along
-  dP/ds x dP/dt, T along the texture's u in the tangent plane. Blender
-  interpolates these across the face; the shader re-normalises and builds
-  B = N x T. Storing the frame (rather than using the Tangent node and the
-  shading normal) keeps back faces and mirrored UVs exact: Cycles flips its
-  normal toward the viewer, this one does not flip.
+* Per face (FACE-domain attributes, world space): the quad's bilinear patch
+  (p0, e, f, g), its UV Jacobian terms (ue, uf, ug) from the weave's UV
+  map, and (quad index, square size). The shader inverts the patch along
+  the view ray to get the patch parameters (s, t) clothbake's renderer uses,
+  and builds the frame (T, B, N) there (patch_parameters,
+  frame_from_attributes below are its arithmetic, step for step).
+* Per side, an **index image** of K^2 x quads float pixels: pixel (node, q)
+  holds where that (quad, node) square starts in the side's atlas, in UV
+  units, and whether it is baked (index_pixels). The shader reads it with
+  Closest filtering, then the atlas at
+  ``(x0 + s size / W, y0 + t size / H)`` with Linear filtering.
 """
 import math
 
 # Patch parameters (s, t) of corners 0..3 (docs/lookup-format.md).
 CORNER_ST = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
-
-
-def lookup_uvs(rect, tile_width, tile_height):
-    """Corner UVs (tile units, bottom-left origin) of a quad's square.
-
-    rect = (x, y, size) in texels, rows from the top. Corner (s, t) lies at
-    texel position (x + s size, y + (1 - t) size) from the tile's top-left.
-    A quad with size 0 gets all four corners on (0, 0), which reads a
-    gutter-free zero texel: transparent.
-    """
-    x, y, size = rect
-    uvs = []
-    for s, t in CORNER_ST:
-        px = x + s * size
-        py = y + (1.0 - t) * size
-        uvs.append((px / tile_width, 1.0 - py / tile_height))
-    return uvs
 
 
 def _sub(a, b):
@@ -118,11 +100,9 @@ def corner_frames(corners_world, corners_uv):
 # face_attributes() is what the mesh stores per face; patch_parameters()
 # is the node tree's arithmetic, step for step, so tests can check it here.
 
-def face_attributes(corners_world, corners_uv, rect, tile_width, tile_height):
+def face_attributes(corners_world, corners_uv, quad, size):
     """Per-face vectors the shader reads: the patch (p0, e, f, g), its UV
-    Jacobian terms (ue, uf, ug, as (u, v, 0)) and the square (x0, y0, w) in
-    tile units: u_tile = x0 + s w, v_tile = y0 + t w (tile_width /
-    tile_height)."""
+    Jacobian terms (ue, uf, ug, as (u, v, 0)) and (quad, size, 0)."""
     p = corners_world
     uv = corners_uv
     e = _sub(p[1], p[0])
@@ -131,10 +111,48 @@ def face_attributes(corners_world, corners_uv, rect, tile_width, tile_height):
     ue = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1], 0.0)
     uf = (uv[3][0] - uv[0][0], uv[3][1] - uv[0][1], 0.0)
     ug = (uv[0][0] - uv[1][0] + uv[2][0] - uv[3][0], uv[0][1] - uv[1][1] + uv[2][1] - uv[3][1], 0.0)
-    x, y, size = rect
-    square = (x / tile_width, 1.0 - (y + size) / tile_height, size / tile_width)
     return {"p0": tuple(p[0]), "e": e, "f": f, "g": g, "ue": ue, "uf": uf, "ug": ug,
-            "square": square}
+            "square": (float(quad), float(size), 0.0)}
+
+
+def index_pixels(lookup_object, side, k):
+    """RGBA float pixels (rows bottom-up, as Blender stores images) of the
+    side's index image: K^2 columns (the side's nodes, j K + i), one row per
+    quad. Pixel (n, q) = (x0, y0, baked, 1): the square of (q, n) starts at
+    UV (x0, y0) of the atlas (its bottom-left corner: the atlas's rows run
+    top-down, UVs bottom-up), and baked is 1 if it holds values. Unbaked
+    pairs read (0, 0, 0, 1): the shader multiplies their texels by 0, so
+    they are transparent, as in clothbake's lookup-render (which skips the
+    whole lookup; the two differ only where some of the four nodes are
+    baked and some not, which a bake never plans)."""
+    name = ("front", "back")[side]
+    atlas = lookup_object.sides[name]
+    per_side = k * k
+    pixels = [0.0] * (per_side * lookup_object.quads * 4)
+    for q in range(lookup_object.quads):
+        size = lookup_object.sizes[q]
+        for local in range(per_side):
+            at = (q * per_side + local) * 4
+            pixels[at + 3] = 1.0
+            node = side * per_side + local
+            if atlas is None or not lookup_object.is_baked(q, node):
+                continue
+            x, y = atlas.squares[q, node]
+            pixels[at] = x / atlas.width
+            pixels[at + 1] = 1.0 - (y + size) / atlas.height
+            pixels[at + 2] = 1.0
+    return pixels
+
+
+def atlas_uv(lookup_object, side, quad, node, s, t):
+    """UV (bottom-left origin) of patch point (s, t) in the square of
+    (quad, node): the index image's (x0, y0) plus (s, t) times the square's
+    size over the atlas's; what the shader computes."""
+    atlas = lookup_object.sides[("front", "back")[side]]
+    x, y = atlas.squares[quad, node]
+    size = lookup_object.sizes[quad]
+    return (x / atlas.width + s * size / atlas.width,
+            1.0 - (y + size) / atlas.height + t * size / atlas.height)
 
 
 def _safe_div(a, b):

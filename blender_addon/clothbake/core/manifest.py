@@ -1,4 +1,4 @@
-"""Reading a lookup folder's manifest.json (docs/lookup-format.md, version 1).
+"""Reading a lookup folder's manifest.json (docs/lookup-format.md, version 2).
 
 Checks what clothbake's own reader checks (baker/io/lookup_io.cpp), so a
 broken or foreign lookup is refused with the file and field named, before
@@ -13,30 +13,37 @@ from .directions import HEMI_OCTAHEDRAL, POLAR
 from .errors import ClothbakeError
 
 FORMAT = "clothbake-lookup"
-VERSION = 1
+VERSION = 2
 _MAPS = {HEMI_OCTAHEDRAL: "corners", POLAR: "polar"}
 
 
 @dataclass
+class SideAtlas:
+    """One side's packed atlas: its file, size and where each (quad, node)
+    square's top-left texel (inside the gutter) is."""
+    path: str
+    width: int
+    height: int
+    squares: dict        # (quad, node) -> (x, y)
+
+
+@dataclass
 class LookupObject:
-    """One cloth object of a lookup: its atlas layout and files."""
+    """One cloth object of a lookup: per-quad square sizes, flags, atlases."""
     index: int
     name: str
     cloth_hash: str
     quads: int
-    tile_width: int
-    tile_height: int
     gutter: int
-    rects: list          # per quad: (x, y, size), size 0 = no square
+    sizes: list          # per quad: texels per side of its squares, 0 = none
     baked: list          # per quad: string of 2 K^2 '0'/'1'
-    files: dict          # "front"/"back" -> absolute path or None
+    sides: dict          # "front"/"back" -> SideAtlas or None
 
     def quad_baked(self, quad):
         return "1" in self.baked[quad]
 
-    def atlas_size(self, k):
-        """(width, height) in pixels of each side's atlas."""
-        return k * self.tile_width, k * self.tile_height
+    def is_baked(self, quad, node):
+        return self.baked[quad][node] == "1"
 
 
 @dataclass
@@ -133,56 +140,79 @@ def read_manifest(folder):
             raise ClothbakeError("must be an object", path, f"objects[{o}]")
         name = oj.get("name", "")
         quads = _int(oj, "quads", path, where, 0)
-        tile = _require(oj, "tile", (list,), path, where)
-        if len(tile) != 2 or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1
-                                     for v in tile):
-            raise ClothbakeError("must be [w, h], integers >= 1", path, where + "tile")
-        gutter = _int(oj, "gutter", path, where, 0)
-        rects_json = _require(oj, "rects", (list,), path, where)
+        gutter = _int(oj, "gutter", path, where, 0, 64)
+        sizes = _require(oj, "sizes", (list,), path, where)
+        if len(sizes) != quads or not all(isinstance(v, int) and not isinstance(v, bool) and
+                                          0 <= v <= 65536 for v in sizes):
+            raise ClothbakeError(f"must be {quads} integers in [0, 65536] (one per quad)", path,
+                                 where + "sizes")
         baked_json = _require(oj, "baked", (list,), path, where)
-        if len(rects_json) != quads:
-            raise ClothbakeError(f"has {len(rects_json)} entries, expected one per quad ({quads})",
-                                 path, where + "rects")
         if len(baked_json) != quads:
             raise ClothbakeError(f"has {len(baked_json)} entries, expected one per quad ({quads})",
                                  path, where + "baked")
-        rects = []
-        for q, r in enumerate(rects_json):
-            field_name = f"{where}rects[{q}]"
-            if (not isinstance(r, list) or len(r) != 3 or
-                    not all(isinstance(v, int) and not isinstance(v, bool) for v in r)):
-                raise ClothbakeError("must be [x, y, size], integers", path, field_name)
-            x, y, size = r
-            if size < 0 or (size > 0 and (x < 0 or y < 0 or x + size > tile[0] or
-                                          y + size > tile[1])):
-                raise ClothbakeError(f"square [{x}, {y}, {size}] lies outside the "
-                                     f"{tile[0]} x {tile[1]} tile", path, field_name)
-            rects.append((x, y, size))
         for q, flags in enumerate(baked_json):
             if not isinstance(flags, str) or not flag_re.fullmatch(flags):
                 raise ClothbakeError(f"must be a string of {2 * k * k} characters '0' or '1'",
                                      path, f"{where}baked[{q}]")
-        files_json = _require(oj, "files", (dict,), path, where)
-        files = {}
+        sides_json = _require(oj, "sides", (dict,), path, where)
+        sides = {}
+        per_side = k * k
         for side, key in enumerate(("front", "back")):
-            value = files_json.get(key)
-            side_baked = any("1" in flags[side * k * k:(side + 1) * k * k] for flags in baked_json)
-            if value is None:
-                if side_baked:
-                    raise ClothbakeError(f"the {key} side has baked nodes but no file",
-                                         path, f"{where}files.{key}")
-                files[key] = None
+            sj = sides_json.get(key)
+            field_name = f"{where}sides.{key}"
+            if sj is None:
+                sides[key] = None
                 continue
-            if not isinstance(value, str) or not value or os.path.basename(value) != value:
-                raise ClothbakeError("must be a file name in the lookup folder",
-                                     path, f"{where}files.{key}")
-            file_path = os.path.join(folder, value)
+            if not isinstance(sj, dict):
+                raise ClothbakeError("must be an object or null", path, field_name)
+            size = _require(sj, "size", (list,), path, field_name + ".")
+            if len(size) != 2 or not all(isinstance(v, int) and not isinstance(v, bool) and
+                                         1 <= v <= 65536 for v in size):
+                raise ClothbakeError("must be two integers in [1, 65536]", path,
+                                     field_name + ".size")
+            width, height = size
+            squares = {}
+            for i, sq in enumerate(_require(sj, "squares", (list,), path, field_name + ".")):
+                sq_field = f"{field_name}.squares[{i}]"
+                if (not isinstance(sq, list) or len(sq) != 4 or
+                        not all(isinstance(v, int) and not isinstance(v, bool) for v in sq)):
+                    raise ClothbakeError("must be [quad, node, x, y], integers", path, sq_field)
+                q, n, x, y = sq
+                if not 0 <= q < quads:
+                    raise ClothbakeError(f"quad {q} out of range", path, sq_field)
+                if not side * per_side <= n < (side + 1) * per_side:
+                    raise ClothbakeError(f"node {n} is not a node of the {key} side", path,
+                                         sq_field)
+                w = sizes[q]
+                if w == 0:
+                    raise ClothbakeError(f"quad {q} has size 0", path, sq_field)
+                if x - gutter < 0 or y - gutter < 0 or x + w + gutter > width or \
+                        y + w + gutter > height:
+                    raise ClothbakeError(f"the square and its gutter do not fit in the {width} x "
+                                         f"{height} atlas", path, sq_field)
+                if (q, n) in squares:
+                    raise ClothbakeError("a second square for the same quad and node", path,
+                                         sq_field)
+                squares[q, n] = (x, y)
+            file_name = _require(sj, "file", (str,), path, field_name + ".")
+            if not file_name or os.path.basename(file_name) != file_name or \
+                    file_name.startswith("."):
+                raise ClothbakeError("must be a file name in the lookup folder", path,
+                                     field_name + ".file")
+            file_path = os.path.join(folder, file_name)
             if not os.path.isfile(file_path):
                 raise ClothbakeError("the lookup image is missing", file_path)
-            files[key] = file_path
+            sides[key] = SideAtlas(file_path, width, height, squares)
+        for q, flags in enumerate(baked_json):
+            for n, flag in enumerate(flags):
+                side = sides["front" if n < per_side else "back"]
+                if flag == "1" and (side is None or (q, n) not in side.squares):
+                    raise ClothbakeError(f"node {n} is marked baked but has no square in "
+                                         f"{where}sides.{'front' if n < per_side else 'back'}"
+                                         ".squares", path, f"{where}baked[{q}]")
         lookup.objects.append(LookupObject(o, name if isinstance(name, str) else "",
-                                           str(oj.get("cloth_hash", "")), quads, tile[0], tile[1],
-                                           gutter, rects, list(baked_json), files))
+                                           str(oj.get("cloth_hash", "")), quads, gutter, sizes,
+                                           list(baked_json), sides))
     if not lookup.objects:
         raise ClothbakeError("has no objects", path, "objects")
     return lookup
