@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Speed against accuracy (docs/results.md): sweeps every method clothbake
+# offers on the paper scene (half resolution) and on testscenes/flat (grazing
+# views, isotropic shading, where Cycles can also render the real volume),
+# writing out/chart/<scene>/points.csv and charts as PNG and SVG under
+# docs/images/chart_<scene>.{png,svg}. About 25 minutes on the 2-core machine;
+# run it on an otherwise idle machine (the seconds are the point).
+#   scripts/chart.sh [--quick]
+source "$(dirname "$0")/lib.sh"
+install_packages
+build_all
+quick=()
+[[ ${1:-} == --quick ]] && quick=(--quick --runs 1 --ref-spp 16)
+out="$CLOTHBAKE_ROOT/out/chart"
+mkdir -p "$out"
+{ date -u; git -C "$CLOTHBAKE_ROOT" rev-parse --short HEAD; lscpu | grep -E "Model name|^CPU\(s\)"; free -g | head -2; blender --version 2>/dev/null | head -1; } >"$out/machine.txt"
+for scene in paper flat; do
+  scale=1.0
+  [[ $scene == paper ]] && scale=0.5
+  log "sweep on $scene (resolution x $scale)"
+  rm -f "$out/$scene/reference.exr"
+  /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/chart.py" "$CLOTHBAKE_ROOT/testscenes/$scene/scene.json" \
+    --name "$scene" --out "$out/$scene" --scale "$scale" "${quick[@]}"
+  /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/plot_chart.py" "$out/$scene/points.csv" \
+    "$CLOTHBAKE_ROOT/docs/images/chart_$scene" --title "clothbake: $scene scene, error against time"
+done
+log "done: $out/*/points.csv, docs/images/chart_{paper,flat}.{png,svg}"
