@@ -178,6 +178,11 @@ MarchResult Renderer::shade_surface(int o, int q, float s, float t, const V3f& r
   } else if (dir_texture.z > 0.0f) {  // from behind: up from the bottom face to the hit
     length_mm = std::min(cap, volume.size_mm().z / dir_texture.z);
     entry_texture = top_texture - dir_texture * length_mm;
+    // A grazing view from behind (within ~0.3 degrees of the horizon) is capped:
+    // the march must still start at the bottom face, the side the eye sees, not
+    // `cap` before the hit inside the volume, nearer the lit top (that was up to
+    // 5.8 x too bright, tests/core/stability_test.cpp). Only the far end is cut.
+    entry_texture.z = 0.0f;
   }
   // Draw the random numbers whether or not the march runs, so one ray's
   // sequence does not depend on another's geometry.
