@@ -37,7 +37,14 @@ V3f DirectionGrid::node_direction(int side, int i, int j) const {
   return d;
 }
 
-DirectionGrid::Footprint DirectionGrid::locate(const V3f& to_eye_local) const {
+DirectionGrid::Footprint DirectionGrid::locate(const V3f& to_eye_in) const {
+  // A NaN or infinite direction has no place on either map; it used to give
+  // grid indices of INT_MIN (int(NaN)), read out of bounds by
+  // LookupTable::sample (tests/core/stability_test.cpp). Read it as the
+  // normal, as hemi_oct_encode already did for NaN.
+  const bool finite_dir =
+      std::isfinite(to_eye_in.x) && std::isfinite(to_eye_in.y) && std::isfinite(to_eye_in.z);
+  const V3f to_eye_local = finite_dir ? to_eye_in : V3f(0.0f, 0.0f, 1.0f);
   Footprint f;
   f.side = to_eye_local.z >= 0.0f ? 0 : 1;
   if (map == DirectionMap::Polar) {

@@ -43,6 +43,7 @@ struct DirectionGrid {
   Imath::V3f node_direction(int side, int i, int j) const;
 
   /// The four nodes a direction is interpolated from, and the weights.
+  /// A non-finite direction is read as the normal (0, 0, 1).
   struct Footprint {
     int side = 0;
     int i0 = 0, i1 = 0, j0 = 0, j1 = 0;  ///< the four nodes are (i0|i1, j0|j1)
