@@ -84,6 +84,8 @@ def main():
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "baker", "clothbake"))
     ap.add_argument("--blender", default="blender")
     ap.add_argument("--quick", action="store_true", help="fewer points (smoke test)")
+    ap.add_argument("--extra-points", help="CSV of points rendered elsewhere: series, label, "
+                    "seconds, image")
     args = ap.parse_args()
 
     os.makedirs(args.out, exist_ok=True)
@@ -101,7 +103,7 @@ def main():
         return write_scene(base, os.path.join(args.out, f"scene_{tag}.json"), args.scale, overrides)
 
     base_scene = scene_with("base")
-    ref = os.path.join(args.out, "reference.exr")
+    ref = os.path.join(args.out, f"reference_{args.ref_spp}spp_scale{args.scale}.exr")
     if not os.path.exists(ref):
         log(f"converged reference: {args.ref_spp} spp, step {step / 4}")
         ref_scene = scene_with("reference", {"step_cells": step / 4})
@@ -130,30 +132,33 @@ def main():
         return lambda image: [args.exe, "render", scene, "-o", image, "--quiet"] + \
             (["--spp", str(spp_value)] if spp_value else [])
 
-    # The reference renderer: march step, samples per pixel, fibre model,
-    # light transmittance.
-    steps = [2.0, 1.0, 0.5, 0.25] if not args.quick else [1.0, 0.5]
-    for st in steps:
-        point("render: march step", f"step {st}", render_cmd(scene_with(f"step{st}",
-                                                                         {"step_cells": st})),
-              setting=f"step_cells={st}")
-    for n in ([1, 4, 16] if not args.quick else [1, 4]):
-        point("render: samples", f"{n} spp", render_cmd(base_scene, n), setting=f"spp={n}")
-    if not isotropic:
-        models = [("ellipsoid", 16), ("ellipsoid", 64), ("table", 64), ("kajiya-kay", 64)]
-        for model, n in (models if not args.quick else models[2:]):
-            label = f"{model} {n}" if model == "ellipsoid" else model
-            point("render: fibre model", label,
-                  render_cmd(scene_with(f"fiber_{model}{n}", {"fiber_model": model,
-                                                              "fiber_samples": n})),
-                  runs=1 if model == "ellipsoid" else args.runs,
-                  setting=f"fiber_model={model},fiber_samples={n}")
-    for mode in ("shadow-march", "cached"):
-        point("render: transmittance", mode,
-              render_cmd(scene_with(f"trans_{mode}", {"transmittance": mode})),
-              setting=f"transmittance={mode}")
+    # Every method is a curve over samples per pixel: at few samples the
+    # pixel-sampling noise of a weave a few pixels per repeat dominates every
+    # method alike; the curve's floor at many samples is the method's own
+    # error (march step, fibre model, transmittance, bake resolution).
+    spps = [1, 4, 16, 64] if not args.quick else [1, 4]
 
-    # Bakes, then clothbake's lookup-render and Cycles reading them.
+    def runs_for(n):
+        return args.runs if n <= 4 else 1   # long points: one run
+
+    def render_series(name, overrides, levels=spps):
+        scene = scene_with(name.replace(" ", "_").replace(":", ""), overrides)
+        for n in levels:
+            point(name, f"{n} spp", render_cmd(scene, n), runs=runs_for(n),
+                  setting=",".join(f"{k}={v}" for k, v in overrides.items()) + f",spp={n}")
+
+    render_series(f"render (step {step}, scene's settings)", {})
+    render_series("render: step 2", {"step_cells": 2.0})
+    render_series("render: step 0.125", {"step_cells": 0.125}, spps[:3])
+    if not isotropic:
+        render_series("render: cached transmittance", {"transmittance": "cached"})
+        render_series("render: ellipsoid fibre, 64 samples", {"fiber_model": "ellipsoid",
+                                                              "fiber_samples": 64}, spps[1:3])
+        render_series("render: Kajiya-Kay fibre", {"fiber_model": "kajiya-kay"}, spps[1:3])
+
+    # Bakes, then clothbake's lookup-render and Cycles reading them. A bake
+    # folder from an earlier sweep of the same binary and scene is reused
+    # (its seconds were recorded with it).
     bakes = [("adaptive K8", ["--adaptive", "--directions", "8", "--spp", "2"]),
              ("adaptive K16", ["--adaptive", "--directions", "16", "--spp", "2"]),
              ("adaptive K16 3tpp", ["--adaptive", "--directions", "16", "--spp", "2",
@@ -165,17 +170,24 @@ def main():
     best_bake = None
     for label, flags in bakes:
         folder = os.path.join(args.out, "bake_" + label.replace(" ", "_"))
-        log(f"bake {label}")
-        secs, out = r.timed([args.exe, "bake", base_scene, "-o", folder, "--quiet"] + flags)
-        stats = json.loads(out)
-        bake_seconds = secs
-        series = "lookup-render (adaptive bake)" if "adaptive" in label else \
-            "lookup-render (full bake)"
-        image = point(series, label, lambda image: [args.exe, "lookup-render", base_scene,
-                                                    folder, "-o", image, "--quiet"],
-                      extra_seconds=bake_seconds, setting=" ".join(flags))
-        rows[-1]["bake_seconds"] = bake_seconds
-        rows[-1]["bake_bytes_on_disk"] = stats.get("bytes_on_disk", "")
+        stats_path = os.path.join(args.out, "bake_" + label.replace(" ", "_") + ".json")
+        stats = json.load(open(stats_path)) if os.path.exists(stats_path) and \
+            os.path.exists(os.path.join(folder, "manifest.json")) else None
+        if stats is None or stats.get("flags") != flags:
+            log(f"bake {label}")
+            secs, out = r.timed([args.exe, "bake", base_scene, "-o", folder, "--quiet"] + flags)
+            stats = dict(json.loads(out), wall_seconds=secs, flags=flags)
+            with open(stats_path, "w") as f:
+                json.dump(stats, f, indent=2)
+        bake_seconds = stats["wall_seconds"]
+        series = f"lookup-render, {label} bake"
+        for n in spps[1:]:
+            point(series, f"{n} spp",
+                  lambda image, n=n: [args.exe, "lookup-render", base_scene, folder, "-o", image,
+                                      "--quiet", "--spp", str(n)],
+                  runs=runs_for(n), extra_seconds=bake_seconds, setting=" ".join(flags))
+            rows[-1]["bake_seconds"] = bake_seconds
+            rows[-1]["bake_bytes_on_disk"] = stats.get("bytes_on_disk", "")
         if label == "adaptive K16 3tpp" or best_bake is None:
             best_bake = (label, folder, bake_seconds)
 
@@ -190,7 +202,7 @@ def main():
                             "--", base_scene, folder, image, "--samples", str(n)]
                 image = os.path.join(args.out, f"cycles_bake_{n}.exr")
                 times = []
-                for _ in range(args.runs):
+                for _ in range(2 if n <= 16 else 1):
                     start = time.perf_counter()
                     proc = subprocess.run(cmd(image), stdout=subprocess.PIPE,
                                           stderr=subprocess.STDOUT, text=True, env=env)
@@ -198,14 +210,28 @@ def main():
                     if proc.returncode != 0:
                         raise RuntimeError(proc.stdout[-2000:])
                 err, psnr = r.compare(ref, image)
-                rows.append({"scene": args.name, "series": "Cycles + bake (add-on)",
-                             "label": f"{n} samples", "setting": f"{label}, samples={n}",
-                             "seconds": statistics.median(times), "runs": args.runs,
+                rows.append({"scene": args.name, "series": f"Cycles + {label} bake (add-on)",
+                             "label": f"{n} samples", "setting": f"samples={n}",
+                             "seconds": statistics.median(times), "runs": len(times),
                              "seconds_all": " ".join(f"{t:.3f}" for t in times),
                              "seconds_with_bake": statistics.median(times) + bake_seconds,
                              "relative_rmse": err, "psnr": psnr, "bake_seconds": bake_seconds})
                 log(f"Cycles + bake {n:4d} samples {rows[-1]['seconds']:8.2f} s  rel. RMSE "
                     f"{err:.4f}  PSNR {psnr:.2f} dB")
+
+    if args.extra_points:
+        # Points measured elsewhere (the Cycles real-volume route): series,
+        # label, seconds, image; errors computed here against this reference.
+        with open(args.extra_points) as f:
+            for row in csv.DictReader(f):
+                err, psnr = r.compare(ref, row["image"])
+                rows.append({"scene": args.name, "series": row["series"], "label": row["label"],
+                             "setting": row.get("setting", ""), "seconds": float(row["seconds"]),
+                             "runs": row.get("runs", 1), "seconds_all": row["seconds"],
+                             "seconds_with_bake": float(row["seconds"]),
+                             "relative_rmse": err, "psnr": psnr})
+                log(f"{row['series']:28s} {row['label']:22s} {float(row['seconds']):8.2f} s  "
+                    f"rel. RMSE {err:.4f}  PSNR {psnr:.2f} dB")
 
     fields = ["scene", "series", "label", "setting", "seconds", "runs", "seconds_all",
               "seconds_with_bake", "bake_seconds", "bake_bytes_on_disk", "relative_rmse", "psnr"]

@@ -17,10 +17,27 @@ mkdir -p "$out"
 for scene in paper flat; do
   scale=1.0
   [[ $scene == paper ]] && scale=0.5
+  extra=()
+  timing="$CLOTHBAKE_ROOT/out/flat/vol/volume_seed1_timing.json"
+  if [[ $scene == flat && -f $timing ]]; then
+    # Cycles rendering the real volume (scripts/cycles_volume_timing.sh, run
+    # before): its renders, timed inside Blender (load + render), join the chart.
+    mkdir -p "$out/flat"
+    /usr/bin/python3 - "$timing" "$CLOTHBAKE_ROOT" >"$out/flat/extra_points.csv" <<'PY'
+import csv, json, os, sys
+t = json.load(open(sys.argv[1]))
+w = csv.writer(sys.stdout)
+w.writerow(["series", "label", "seconds", "image", "setting"])
+for run in t["runs"]:
+    w.writerow(["Cycles real volume (VDB)", f"{run['samples']} samples",
+                round(run["render_seconds"] + t["load_seconds"], 3),
+                os.path.join(sys.argv[2], run["exr"]), "volume_bounces=0, isotropic"])
+PY
+    extra=(--extra-points "$out/flat/extra_points.csv")
+  fi
   log "sweep on $scene (resolution x $scale)"
-  rm -f "$out/$scene/reference.exr"
   /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/chart.py" "$CLOTHBAKE_ROOT/testscenes/$scene/scene.json" \
-    --name "$scene" --out "$out/$scene" --scale "$scale" "${quick[@]}"
+    --name "$scene" --out "$out/$scene" --scale "$scale" "${quick[@]}" "${extra[@]}"
   /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/plot_chart.py" "$out/$scene/points.csv" \
     "$CLOTHBAKE_ROOT/docs/images/chart_$scene" --title "clothbake: $scene scene, error against time"
 done

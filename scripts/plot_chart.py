@@ -51,7 +51,7 @@ def main():
         ys = [float(r["relative_rmse"]) for r in pts]
         color = cmap(k % 10)
         ax.plot(xs, ys, MARKERS[k % len(MARKERS)], color=color, label=name, markersize=7,
-                linestyle="-" if len(pts) > 1 and "render:" in name else "none", linewidth=0.8)
+                linestyle="-" if len(pts) > 1 else "none", linewidth=0.8)
         for r, x, y in zip(pts, xs, ys):
             ax.annotate(r["label"], (x, y), textcoords="offset points", xytext=(5, 3),
                         fontsize=7, color=color)
