@@ -1,0 +1,248 @@
+"""Renders a flat clothbake scene in Blender 3.4 Cycles as a real volume: the
+tiled volume texture (scripts/tile_volume.py) placed where clothbake's map
+puts it, with the scene's camera, lights and background.
+
+  blender -b --factory-startup --python-exit-code 1 -P volume_render.py -- \
+      SCENE.json VOLUME_DIR TILED.vdb LIGHT_UNITS.json OUT_DIR \
+      --samples 1,4,16 [--seed S] [--color albedo|grid] [--voxel-shift 0.5] [--tag volume]
+
+Writes OUT_DIR/TAG_sN_seedS.exr (linear RGBA float) per sample count and
+OUT_DIR/TAG_seedS_timing.json: load seconds (scene set-up and loading the
+VDB's grids) and, per sample count, the wall seconds of
+bpy.ops.render.render() alone (Cycles' scene sync, volume upload and
+sampling; saving the EXR is excluded) and the CPU seconds (user + system,
+all threads) Blender spent in it.
+
+Physics (docs/scene-format.md; clothbake's `isotropic` shading):
+- Principled Volume, Density = extinction_per_mm x mm per world unit times the
+  `density` grid, Color = the object's isotropic_albedo (--color albedo, the
+  default, as clothbake's isotropic mode) or the `diffuse` grid through an
+  Attribute node (--color grid), Absorption Color black (so extinction =
+  density, scattering = Color x density), anisotropy 0 (isotropic phase).
+- volume_bounces 0: single scattering with shadowed direct light (see
+  ../shared/BLENDER_NOTES.md), the same as clothbake's march.
+- Volume precision FULL, step rate 1 (one voxel).
+- Lights: Sun strength and point power from the measured LIGHT_UNITS.json
+  (scripts/blender/light_units.py): strength = intensity / (irradiance per
+  unit strength), power = intensity / (irradiance at 1 unit per watt).
+  Both hard (sun angle 0, point radius 0).
+- World: the scene's background for camera rays only (Light Path: Is Camera
+  Ray), not sampled as a light: clothbake's background lights nothing.
+- Camera: pinhole at the scene's position, looking at look_at with its up;
+  sensor fit along fov_axis, the field of view fov_deg; pixel filter BOX
+  width 1 (clothbake averages over the pixel square); adaptive sampling and
+  denoising off.
+- --voxel-shift s moves the object by -s voxel on every axis: Cycles shows
+  voxel i's value centred at index position i + 0.5 from the grid's own
+  placement (BLENDER_NOTES.md), i.e. half a voxel off clothbake's cell
+  centre; s = 0.5 (the default) puts it back.
+"""
+import json
+import math
+import os
+import resource
+import sys
+import time
+
+import bpy
+from mathutils import Matrix, Vector
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import flat_volume  # noqa: E402
+
+
+def cpu_seconds():
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def parse():
+    argv = sys.argv[sys.argv.index("--") + 1:]
+    pos, opt = [], {"samples": "1", "seed": "1", "color": "albedo", "voxel-shift": "0.5",
+                    "tag": "volume", "threads": "0"}
+    i = 0
+    while i < len(argv):
+        if argv[i].startswith("--"):
+            opt[argv[i][2:]] = argv[i + 1]
+            i += 2
+        else:
+            pos.append(argv[i])
+            i += 1
+    if len(pos) != 5:
+        raise SystemExit("usage: volume_render.py -- SCENE.json VOLUME_DIR TILED.vdb LIGHT_UNITS.json OUT_DIR [options]")
+    return pos, opt
+
+
+def main():
+    t_start = time.perf_counter()
+    (scene_path, vdir, tiled, units_path, out_dir), opt = parse()
+    samples = [int(s) for s in opt["samples"].split(",")]
+    seed = int(opt["seed"])
+    shift = float(opt["voxel-shift"])
+    with open(os.path.join(vdir, "volume.json")) as f:
+        vmeta = json.load(f)
+    with open(units_path) as f:
+        units = json.load(f)
+    lay = flat_volume.layout(scene_path, vmeta["size_mm"])
+    cells, size = vmeta["cells"], vmeta["size_mm"]
+    voxel_mm = [s / n for s, n in zip(size, cells)]
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    sc = bpy.context.scene
+
+    # The volume object: texture mm -> world (flat_volume.py), then -shift voxel.
+    vol = bpy.data.volumes.new("cloth")
+    vol.filepath = os.path.abspath(tiled)
+    if not vol.grids.load():
+        raise SystemExit("cannot load %s: %s" % (tiled, vol.grids.error_message))
+    for g in vol.grids:
+        g.load()
+    vol.render.precision = "FULL"
+    vol.render.space = "OBJECT"
+    vol.render.step_size = 0.0
+    ob = bpy.data.objects.new("cloth", vol)
+    sc.collection.objects.link(ob)
+    u, v, n = Vector(lay["u_vec"]), Vector(lay["v_vec"]), Vector(lay["normal"])
+    wpm = lay["world_per_mm"]
+    ax = [u.normalized() * wpm[0], v.normalized() * wpm[1], n * wpm[2]]
+    origin = Vector(lay["origin"]) - n * lay["thickness_world"]
+    origin -= sum((ax[a] * (shift * voxel_mm[a]) for a in range(3)), Vector())
+    m = Matrix.Identity(4)
+    for a in range(3):
+        for r in range(3):
+            m[r][a] = ax[a][r]
+        m[a][3] = origin[a]
+    ob.matrix_world = m
+
+    mat = bpy.data.materials.new("cloth_volume")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    pv = nt.nodes.new("ShaderNodeVolumePrincipled")
+    pv.inputs["Density"].default_value = lay["extinction_per_world"]
+    pv.inputs["Density Attribute"].default_value = "density"
+    pv.inputs["Anisotropy"].default_value = 0.0
+    pv.inputs["Absorption Color"].default_value = (0, 0, 0, 1)
+    pv.inputs["Emission Strength"].default_value = 0.0
+    pv.inputs["Blackbody Intensity"].default_value = 0.0
+    if opt["color"] == "grid":
+        attr = nt.nodes.new("ShaderNodeAttribute")
+        attr.attribute_name = "diffuse"
+        nt.links.new(attr.outputs["Color"], pv.inputs["Color"])
+    else:
+        pv.inputs["Color"].default_value = tuple(lay["albedo"]) + (1.0,)
+    outn = nt.nodes.new("ShaderNodeOutputMaterial")
+    nt.links.new(pv.outputs["Volume"], outn.inputs["Volume"])
+    ob.data.materials.append(mat)
+
+    # Lights.
+    for i, L in enumerate(lay["lights"]):
+        color = L.get("color", [1, 1, 1])
+        inten = L.get("intensity", 1.0)
+        if L["type"] == "directional":
+            ld = bpy.data.lights.new("light%d" % i, "SUN")
+            ld.energy = inten / units["sun_irradiance_per_strength"]
+            ld.angle = 0.0
+            lo = bpy.data.objects.new("light%d" % i, ld)
+            d = Vector(L["direction"]).normalized()
+            lo.rotation_euler = d.to_track_quat("-Z", "Y").to_euler()
+        else:
+            ld = bpy.data.lights.new("light%d" % i, "POINT")
+            ld.energy = inten / units["point_irradiance_at_1_per_watt"]
+            ld.shadow_soft_size = 0.0
+            lo = bpy.data.objects.new("light%d" % i, ld)
+            lo.location = L["position"]
+        ld.color = color
+        sc.collection.objects.link(lo)
+
+    # World: background for camera rays only.
+    world = bpy.data.worlds.new("background")
+    world.use_nodes = True
+    wn = world.node_tree
+    bg = wn.nodes["Background"]
+    lp = wn.nodes.new("ShaderNodeLightPath")
+    mix = wn.nodes.new("ShaderNodeMixRGB")
+    mix.inputs["Color1"].default_value = (0, 0, 0, 1)
+    mix.inputs["Color2"].default_value = tuple(lay["background"]) + (1.0,)
+    wn.links.new(lp.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    wn.links.new(mix.outputs["Color"], bg.inputs["Color"])
+    bg.inputs["Strength"].default_value = 1.0
+    world.cycles.sampling_method = "NONE"
+    sc.world = world
+
+    # Camera.
+    cam = lay["camera"]
+    cd = bpy.data.cameras.new("camera")
+    cd.type = "PERSP"
+    fov = math.radians(cam.get("fov_deg", 40))
+    if cam.get("fov_axis", "horizontal") == "horizontal":
+        cd.sensor_fit = "HORIZONTAL"
+        cd.angle_x = fov
+    else:
+        cd.sensor_fit = "VERTICAL"
+        cd.angle_y = fov
+    cd.clip_start = 1e-3
+    cd.clip_end = 1e4
+    co = bpy.data.objects.new("camera", cd)
+    pos = Vector(cam.get("position", [0, 0, 5]))
+    fwd = (Vector(cam.get("look_at", [0, 0, 0])) - pos).normalized()
+    right = fwd.cross(Vector(cam.get("up", [0, 1, 0]))).normalized()
+    up = right.cross(fwd)
+    cm = Matrix.Identity(4)
+    for r in range(3):
+        cm[r][0], cm[r][1], cm[r][2], cm[r][3] = right[r], up[r], -fwd[r], pos[r]
+    co.matrix_world = cm
+    sc.collection.objects.link(co)
+    sc.camera = co
+
+    res = cam.get("resolution", [426, 266])
+    r = sc.render
+    r.engine = "CYCLES"
+    r.resolution_x, r.resolution_y = res
+    r.resolution_percentage = 100
+    r.film_transparent = False
+    r.threads_mode = "AUTO" if int(opt["threads"]) <= 0 else "FIXED"
+    if int(opt["threads"]) > 0:
+        r.threads = int(opt["threads"])
+    cy = sc.cycles
+    cy.device = "CPU"
+    cy.use_adaptive_sampling = False
+    cy.use_denoising = False
+    cy.seed = seed
+    cy.pixel_filter_type = "BOX"
+    cy.filter_width = 1.0
+    cy.max_bounces = 1024  # volume_bounces 0 is what limits the paths
+    cy.volume_bounces = 0
+    cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 0
+    cy.transparent_max_bounces = 64
+    cy.volume_step_rate = 1.0
+    cy.volume_max_steps = 1024
+    cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
+    cy.use_auto_tile = False
+    r.image_settings.file_format = "OPEN_EXR"
+    r.image_settings.color_mode = "RGBA"
+    r.image_settings.color_depth = "32"
+    sc.view_settings.view_transform = "Standard"
+
+    load_s = time.perf_counter() - t_start
+    os.makedirs(out_dir, exist_ok=True)
+    tag = opt["tag"]
+    runs = []
+    for ns in samples:
+        cy.samples = ns
+        c0, t0 = cpu_seconds(), time.perf_counter()
+        bpy.ops.render.render()
+        dt, dc = time.perf_counter() - t0, cpu_seconds() - c0
+        path = os.path.join(out_dir, "%s_s%d_seed%d.exr" % (tag, ns, seed))
+        bpy.data.images["Render Result"].save_render(path)
+        runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
+                     "exr": path})
+        print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
+    info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
+            "density_per_world": lay["extinction_per_world"], "object_matrix": [list(row) for row in m],
+            "runs": runs}
+    with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
+        json.dump(info, f, indent=2)
+
+
+main()
