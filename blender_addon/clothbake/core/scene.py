@@ -19,10 +19,12 @@ OBJECT_DEFAULTS = {"repeats_per_uv": 40.0, "thickness_world": 0.01, "extinction_
 RENDER_DEFAULTS = {"spp": 4}
 
 # Blender's point light: a lamp of power P watts has radiant intensity
-# P / (4 pi^2) W/sr in Cycles (the 1/pi of its emission normalisation times
-# the 1/(4 pi) of a sphere), so irradiance E at distance 1 facing it needs
-# P = 4 pi^2 E. Sun strength is irradiance already.
-POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi * math.pi
+# P / (4 pi) W/sr in Cycles, measured (scripts/blender/light_units.py: 1 W at
+# 1 unit gives irradiance 0.0796 = 1/(4 pi) on a white plane). So clothbake's
+# point intensity I (irradiance at distance 1) needs P = 4 pi I watts. A
+# white plane's radiance is P / (4 pi^2); reading that as irradiance is the
+# 4 pi^2 mistake this constant once made. Sun strength is irradiance already.
+POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi
 
 
 def _vec(value, n, path, field):
