@@ -28,10 +28,21 @@ install_packages() {
   log "packages installed"
 }
 
+# The compiler flags of the sanitised build (scripts/test.sh --sanitize):
+# AddressSanitizer and UBSan, any UB fatal (no recovering past it).
+CLOTHBAKE_SANITIZE_FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
+
 # Configures (Release, Ninja) and builds everything: library, CLI, tests, benchmarks.
+# With CLOTHBAKE_SANITIZE=1: RelWithDebInfo (stack traces with lines) built with
+# CLOTHBAKE_SANITIZE_FLAGS, no benchmarks.
 build_all() {
+  local args=(-DCMAKE_BUILD_TYPE=Release)
+  if [[ ${CLOTHBAKE_SANITIZE:-0} == 1 ]]; then
+    args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS=$CLOTHBAKE_SANITIZE_FLAGS"
+      "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" -DCLOTHBAKE_BUILD_BENCHMARKS=OFF)
+  fi
   log "configuring $CLOTHBAKE_BUILD"
-  cmake -S "$CLOTHBAKE_ROOT" -B "$CLOTHBAKE_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  cmake -S "$CLOTHBAKE_ROOT" -B "$CLOTHBAKE_BUILD" -G Ninja "${args[@]}" \
     ${CLOTHBAKE_CMAKE_ARGS:-} >/dev/null
   log "building"
   cmake --build "$CLOTHBAKE_BUILD" -j "$(nproc)"

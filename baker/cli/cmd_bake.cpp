@@ -50,11 +50,15 @@ std::string mib(uint64_t bytes) {
   return buf;
 }
 
-void run_bake_command(BakeArgs args) {
-  const auto threads = limit_threads(args.threads);
+/// The settings from the values CLI11 leaves as text.
+void finish_bake_args(BakeArgs& args) {
   parse_quads(args.quads, args.settings);
   args.settings.map =
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
+}
+
+void run_bake_command(const BakeArgs& args) {
+  const auto threads = limit_threads(args.threads);
   // Step 1: read and check everything, and refuse what cannot fit, before
   // any output exists.
   const Scene scene = io::load_scene(args.scene);
@@ -151,7 +155,7 @@ void run_bake_command(BakeArgs args) {
 
 }  // namespace
 
-void register_bake_command(CLI::App& app) {
+void register_bake_command(CLI::App& app, Action action) {
   auto args = std::make_shared<BakeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "bake", "Bake view-dependent lookup EXRs per quad texel (docs/lookup-format.md)");
@@ -177,7 +181,11 @@ void register_bake_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
-  cmd->callback([args] { run_bake_command(*args); });
+  cmd->callback([args, action] {
+    BakeArgs checked = *args;
+    finish_bake_args(checked);
+    if (action == Action::Run) run_bake_command(checked);
+  });
 }
 
 }  // namespace clothbake::cli

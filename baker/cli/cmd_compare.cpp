@@ -74,7 +74,7 @@ void run_compare(const CompareArgs& a) {
 }
 }  // namespace
 
-void register_compare_command(CLI::App& app) {
+void register_compare_command(CLI::App& app, Action action) {
   auto args = std::make_shared<CompareArgs>();
   CLI::App* cmd = app.add_subcommand("compare", "Compare an image against a reference (RGB)");
   cmd->add_option("reference", args->reference, "reference image")->required();
@@ -92,7 +92,9 @@ void register_compare_command(CLI::App& app) {
                   "box-average by N x N pixels before comparing (an image already N times "
                   "smaller is taken as is)")
       ->check(CLI::Range(1, 64));
-  cmd->callback([args] { run_compare(*args); });
+  cmd->callback([args, action] {
+    if (action == Action::Run) run_compare(*args);
+  });
 }
 
 }  // namespace clothbake::cli

@@ -207,8 +207,13 @@ Image plot_lobes(const Response& response, const Imath::V3f& tangent, const Imat
   return canvas;
 }
 
-void run_fiber(const FiberArgs& args) {
-  // Step 1: check every value before any work or output.
+/// The model and directions of the arguments, every value checked.
+struct FiberInputs {
+  FiberModelKind kind;
+  Imath::V3f tangent, light, view;  ///< unit vectors
+};
+
+FiberInputs check_fiber_args(const FiberArgs& args) {
   if (!(args.aspect >= 1.0 && args.aspect <= kMaxAspect))
     throw InputError("--aspect", "must be a number in [1, 10000], got " + shown(args.aspect));
   if (args.samples < 1 || args.samples > kMaxSamples)
@@ -227,9 +232,16 @@ void run_fiber(const FiberArgs& args) {
     throw InputError("--model",
                      "expected ellipsoid, table or kajiya-kay, got '" + args.model + "'");
   }
-  const Imath::V3f tangent = parse_vector(args.tangent, "--tangent").normalized();
-  const Imath::V3f light = parse_vector(args.light, "--light").normalized();
-  const Imath::V3f view = parse_vector(args.view, "--view").normalized();
+  return {kind, parse_vector(args.tangent, "--tangent").normalized(),
+          parse_vector(args.light, "--light").normalized(),
+          parse_vector(args.view, "--view").normalized()};
+}
+
+void run_fiber(const FiberArgs& args) {
+  // Step 1: check every value before any work or output.
+  const FiberInputs inputs = check_fiber_args(args);
+  const FiberModelKind kind = inputs.kind;
+  const Imath::V3f tangent = inputs.tangent, light = inputs.light, view = inputs.view;
 
   // Step 2: the model.
   EllipsoidFiberParams params;
@@ -292,7 +304,7 @@ void run_fiber(const FiberArgs& args) {
 
 }  // namespace
 
-void register_fiber_command(CLI::App& app) {
+void register_fiber_command(CLI::App& app, Action action) {
   auto args = std::make_shared<FiberArgs>();
   CLI::App* cmd = app.add_subcommand(
       "fiber", "Evaluate the fibre reflection model (PAPER.md s.3) for one configuration");
@@ -307,7 +319,12 @@ void register_fiber_command(CLI::App& app) {
   cmd->add_option("--model", args->model, "ellipsoid | table | kajiya-kay")->capture_default_str();
   cmd->add_option("--seed", args->seed, "Jitter seed")->capture_default_str();
   cmd->add_option("--plot", args->plot, "Write a PNG of the response over view directions");
-  cmd->callback([args] { run_fiber(*args); });
+  cmd->callback([args, action] {
+    if (action == Action::Run)
+      run_fiber(*args);
+    else
+      (void)check_fiber_args(*args);
+  });
 }
 
 }  // namespace clothbake::cli

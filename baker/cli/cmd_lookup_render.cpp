@@ -65,7 +65,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
 }
 }  // namespace
 
-void register_lookup_render_command(CLI::App& app) {
+void register_lookup_render_command(CLI::App& app, Action action) {
   auto args = std::make_shared<LookupRenderArgs>();
   CLI::App* cmd =
       app.add_subcommand("lookup-render", "Render a scene from its baked lookup (no volumes)");
@@ -81,7 +81,9 @@ void register_lookup_render_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
-  cmd->callback([args] { run_lookup_render(*args); });
+  cmd->callback([args, action] {
+    if (action == Action::Run) run_lookup_render(*args);
+  });
 }
 
 }  // namespace clothbake::cli

@@ -43,13 +43,15 @@ void run_merge(const MergeArgs& a) {
 }
 }  // namespace
 
-void register_merge_command(CLI::App& app) {
+void register_merge_command(CLI::App& app, Action action) {
   auto args = std::make_shared<MergeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "merge", "Join partial bakes (bake --quads) of one scene into one lookup folder");
   cmd->add_option("parts", args->parts, "lookup folders of the partial bakes")->required();
   cmd->add_option("-o,--out", args->out_dir, "output folder (replaced atomically)")->required();
-  cmd->callback([args] { run_merge(*args); });
+  cmd->callback([args, action] {
+    if (action == Action::Run) run_merge(*args);
+  });
 }
 
 }  // namespace clothbake::cli

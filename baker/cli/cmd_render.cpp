@@ -31,11 +31,15 @@ struct RenderArgs {
   bool stats_json = false;
 };
 
-void run_render(const RenderArgs& args) {
-  const auto threads = limit_threads(args.threads);
+/// The checks of values CLI11 does not make.
+void check_render_args(const RenderArgs& args) {
   const std::string ext = std::filesystem::path(args.out_exr).extension().string();
   if (ext != ".exr")
     throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
+}
+
+void run_render(const RenderArgs& args) {
+  const auto threads = limit_threads(args.threads);
   // Everything is read and checked before any output is written.
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
@@ -70,7 +74,7 @@ void run_render(const RenderArgs& args) {
 
 }  // namespace
 
-void register_render_command(CLI::App& app) {
+void register_render_command(CLI::App& app, Action action) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand("render", "Render a scene with the reference ray-marcher");
   cmd->add_option("scene", args->scene, "scene JSON")->required();
@@ -82,7 +86,10 @@ void register_render_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--stats", args->stats_json, "print timing statistics as JSON on stdout");
-  cmd->callback([args] { run_render(*args); });
+  cmd->callback([args, action] {
+    check_render_args(*args);
+    if (action == Action::Run) run_render(*args);
+  });
 }
 
 }  // namespace clothbake::cli

@@ -128,7 +128,7 @@ void run_volume(const VolumeArgs& args) {
 
 }  // namespace
 
-void register_volume_command(CLI::App& app) {
+void register_volume_command(CLI::App& app, Action action) {
   auto args = std::make_shared<VolumeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "volume", "Generate a cloth's volume texture: DIR/volume.vdb and PNG previews");
@@ -139,7 +139,9 @@ void register_volume_command(CLI::App& app) {
   cmd->add_option("--memory-gib", args->memory_gib,
                   "memory budget for the grid in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);
-  cmd->callback([args] { run_volume(*args); });
+  cmd->callback([args, action] {
+    if (action == Action::Run) run_volume(*args);
+  });
 }
 
 }  // namespace clothbake::cli

@@ -3,32 +3,16 @@
 
 #include <cstdio>
 #include <exception>
+#include <iostream>
 
-#include <CLI/CLI.hpp>
-
-#include "cli/commands.h"
-#include "core/error.h"
+#include "cli/app.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"clothbake: woven cloth from a volume texture (Kimoto & Ohno, c. 1990)"};
-  app.require_subcommand(1);
-  clothbake::cli::register_volume_command(app);
-  clothbake::cli::register_fiber_command(app);
-  clothbake::cli::register_render_command(app);
-  clothbake::cli::register_compare_command(app);
-  clothbake::cli::register_merge_command(app);
-  clothbake::cli::register_bake_command(app);
-  clothbake::cli::register_lookup_render_command(app);
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const clothbake::InputError& e) {
-    std::fprintf(stderr, "clothbake: error: %s\n", e.what());
-    return 1;
+    return clothbake::cli::run_cli(argc, argv, clothbake::cli::Action::Run, std::cout, std::cerr);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "clothbake: error: %s\n", e.what());
+    std::fflush(stdout);
+    std::cerr << "clothbake: error: " << e.what() << "\n";
     return 1;
   }
-  return 0;
 }

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "io/text_file.h"
 
 namespace clothbake::io {
 
@@ -76,8 +77,8 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
   return s;
 }
 
-ClothSpec load_cloth_spec(const std::string& path) {
-  const nlohmann::json doc = read_json_file(path);
+ClothSpec cloth_spec_from_text(const std::string& text, const std::string& path) {
+  const nlohmann::json doc = parse_json_text(text, path);
   const JsonObject top(doc, "", path);
   if (!top.has("objects")) return cloth_spec_from_json(top);
 
@@ -92,9 +93,18 @@ ClothSpec load_cloth_spec(const std::string& path) {
     const std::filesystem::path rel = cloth.get<std::string>();
     const std::filesystem::path full =
         rel.is_absolute() ? rel : std::filesystem::path(path).parent_path() / rel;
-    return load_cloth_spec(full.string());
+    return load_cloth_spec_file(full.string());
   }
   return cloth_spec_from_json(JsonObject(cloth, "objects[0].cloth", path));
+}
+
+ClothSpec load_cloth_spec(const std::string& path) {
+  return cloth_spec_from_text(read_text_file(path), path);
+}
+
+ClothSpec load_cloth_spec_file(const std::string& path) {
+  const nlohmann::json doc = read_json_file(path);
+  return cloth_spec_from_json(JsonObject(doc, "", path));
 }
 
 }  // namespace clothbake::io

@@ -13,9 +13,17 @@ namespace clothbake::io {
 /// file and the full field path.
 ClothSpec cloth_spec_from_json(const JsonObject& spec_json);
 
-/// Loads a cloth spec file, or a scene file (a JSON object with "objects"),
-/// in which case the first object's "cloth" is used: inline, or a path
-/// relative to the scene file.
+/// Reads a cloth spec, or a scene (a JSON object with "objects"), in which
+/// case the first object's "cloth" is used: inline, or the path of a cloth
+/// spec file (not another scene) relative to `path`. `text` is the content of
+/// `path`, which errors name.
+ClothSpec cloth_spec_from_text(const std::string& text, const std::string& spec_or_scene_path);
+
+/// cloth_spec_from_text of the file's content.
 ClothSpec load_cloth_spec(const std::string& spec_or_scene_path);
+
+/// Loads a file that must be a cloth spec (a scene's "cloth" by path): a
+/// scene there is refused, so scenes cannot name each other in a loop.
+ClothSpec load_cloth_spec_file(const std::string& spec_path);
 
 }  // namespace clothbake::io

@@ -1,11 +1,10 @@
 #include "io/json_reader.h"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "core/error.h"
+#include "io/text_file.h"
 
 namespace clothbake::io {
 
@@ -37,11 +36,10 @@ std::string line_col(const std::string& text, size_t byte) {
 }  // namespace
 
 nlohmann::json read_json_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  return parse_json_text(read_text_file(path), path);
+}
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& path) {
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
@@ -98,6 +96,9 @@ void JsonObject::read(const char* key, int& out) const {
   if (!v.is_number_integer())
     fail(field(key),
          "expected an integer, got " + type_name(v) + (v.is_number() ? " with a fraction" : ""));
+  // An unsigned value above INT64_MAX would wrap to a negative int64_t.
+  if (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(std::numeric_limits<int>::max()))
+    fail(field(key), "integer out of range: " + v.dump());
   const int64_t i = v.get<int64_t>();
   if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
     fail(field(key), "integer out of range: " + std::to_string(i));

@@ -16,8 +16,11 @@ namespace clothbake::io {
 /// "a number", "a string", ... for messages about wrong types.
 std::string json_type_name(const nlohmann::json& value);
 
-/// Parses a JSON file. Errors name the file and, for syntax errors, the line
-/// and column. Throws InputError.
+/// Parses JSON text read from `path` (named in errors only). Errors name the
+/// file and, for syntax errors, the line and column. Throws InputError.
+nlohmann::json parse_json_text(const std::string& text, const std::string& path);
+
+/// read_text_file, then parse_json_text.
 nlohmann::json read_json_file(const std::string& path);
 
 class JsonObject {

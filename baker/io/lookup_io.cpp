@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/random.h"
 #include "io/json_reader.h"
+#include "io/text_file.h"
 
 namespace clothbake::io {
 
@@ -189,8 +190,7 @@ void check_table(const LookupTable& t, size_t object, int k) {
   if (t.dirs.k != k)
     throw InputError(field, "all objects of one lookup must share K (" + std::to_string(k) +
                                 "), this one has " + std::to_string(t.dirs.k));
-  if (t.baked.size() != t.sizes.size() * size_t(t.node_count()) ||
-      t.slots.size() != t.baked.size())
+  if (t.baked.size() != t.sizes.size() * size_t(t.node_count()) || t.slots.size() != t.baked.size())
     throw InputError(field, "baked flags or squares do not match quads x nodes");
   for (int side = 0; side < 2; ++side)
     if (side_has_atlas(t, side) &&
@@ -255,8 +255,13 @@ std::vector<int> int_array(const JsonObject& j, const json& v, const std::string
                       (v.is_array() ? " of " + std::to_string(v.size()) : ""));
   std::vector<int> out;
   for (size_t i = 0; i < n; ++i) {
-    if (!v[i].is_number_integer() || v[i].get<int64_t>() < std::numeric_limits<int>::min() ||
-        v[i].get<int64_t>() > std::numeric_limits<int>::max())
+    // Unsigned first: one above INT64_MAX would wrap to a negative int64_t.
+    const bool fits = v[i].is_number_unsigned()
+                          ? v[i].get<uint64_t>() <= uint64_t(std::numeric_limits<int>::max())
+                          : v[i].is_number_integer() &&
+                                v[i].get<int64_t>() >= std::numeric_limits<int>::min() &&
+                                v[i].get<int64_t>() <= std::numeric_limits<int>::max();
+    if (!fits)
       j.fail(field + "[" + std::to_string(i) + "]", "expected an integer, got " + type_name(v[i]));
     out.push_back(int(v[i].get<int64_t>()));
   }
@@ -325,8 +330,7 @@ std::string layout_mismatch(const LookupTable& a, const LookupTable& b) {
       return std::string("sides.") + k_side_names[side] + ".size";
   }
   for (size_t i = 0; i < a.slots.size(); ++i)
-    if (a.slots[i].x != b.slots[i].x || a.slots[i].y != b.slots[i].y)
-      return "sides (squares)";
+    if (a.slots[i].x != b.slots[i].x || a.slots[i].y != b.slots[i].y) return "sides (squares)";
   return {};
 }
 }  // namespace
@@ -439,7 +443,14 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
 std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
                                      const std::string& expected_scene_hash) {
   const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
-  const json doc = read_json_file(manifest_path);
+  return read_lookup_manifest(read_text_file(manifest_path), dir, info, expected_scene_hash);
+}
+
+std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
+                                              const std::string& dir, LookupInfo& info,
+                                              const std::string& expected_scene_hash) {
+  const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
+  const json doc = parse_json_text(manifest_text, manifest_path);
   const JsonObject top(doc, "", manifest_path);
 
   // Step 1: what this folder is.
@@ -508,11 +519,15 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
       obj.fail(obj.field("baked"),
                "expected an array of " + std::to_string(quads) + " strings (one per quad)");
     const int nodes = t.node_count();
+    // Every flag string first: quads x nodes is only allocated once the
+    // manifest holds that many flags (a short file must not claim gigabytes).
+    for (size_t q = 0; q < baked.size(); ++q)
+      if (!baked[q].is_string() || baked[q].get_ref<const std::string&>().size() != size_t(nodes))
+        obj.fail(obj.field("baked") + "[" + std::to_string(q) + "]",
+                 "expected a string of " + std::to_string(nodes) + " '0'/'1' (2 K^2)");
     t.baked.assign(size_t(quads) * nodes, 0);
     for (size_t q = 0; q < baked.size(); ++q) {
       const std::string field = obj.field("baked") + "[" + std::to_string(q) + "]";
-      if (!baked[q].is_string() || baked[q].get<std::string>().size() != size_t(nodes))
-        obj.fail(field, "expected a string of " + std::to_string(nodes) + " '0'/'1' (2 K^2)");
       const std::string& flags = baked[q].get_ref<const std::string&>();
       for (int n = 0; n < nodes; ++n) {
         if (flags[n] != '0' && flags[n] != '1')
@@ -546,8 +561,9 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
           sj.fail(field, "node " + std::to_string(n) + " is not a node of the " + key + " side");
         const int w = t.sizes[q];
         if (w == 0) sj.fail(field, "quad " + std::to_string(q) + " has size 0");
-        if (x - t.gutter < 0 || y - t.gutter < 0 || int64_t(x) + w + t.gutter > atlas.width ||
-            int64_t(y) + w + t.gutter > atlas.height)
+        // In 64 bits: x - gutter overflows an int for x near INT_MIN.
+        if (int64_t(x) - t.gutter < 0 || int64_t(y) - t.gutter < 0 ||
+            int64_t(x) + w + t.gutter > atlas.width || int64_t(y) + w + t.gutter > atlas.height)
           sj.fail(field, "the square and its gutter do not fit in the " +
                              std::to_string(atlas.width) + " x " + std::to_string(atlas.height) +
                              " atlas");
@@ -556,10 +572,12 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
         slot = SquareSlot{x, y};
       }
       const json& file = required(sj, "file");
-      if (!file.is_string()) sj.fail(sj.field("file"), "expected a file name, got " + type_name(file));
+      if (!file.is_string())
+        sj.fail(sj.field("file"), "expected a file name, got " + type_name(file));
       const std::string name = file.get<std::string>();
       if (name.empty() || name.find_first_of("/\\") != std::string::npos || name[0] == '.')
-        sj.fail(sj.field("file"), "must be a file name inside the lookup folder, got \"" + name + "\"");
+        sj.fail(sj.field("file"),
+                "must be a file name inside the lookup folder, got \"" + name + "\"");
       atlas.pixels = read_side_image((fs::path(dir) / name).string(), sides.field(key), atlas.width,
                                      atlas.height);
     }
@@ -579,7 +597,12 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
 
 Scene read_lookup_scene(const std::string& dir) {
   const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
-  const json doc = read_json_file(manifest_path);
+  return read_lookup_scene_manifest(read_text_file(manifest_path), dir);
+}
+
+Scene read_lookup_scene_manifest(const std::string& manifest_text, const std::string& dir) {
+  const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
+  const json doc = parse_json_text(manifest_text, manifest_path);
   const JsonObject top(doc, "", manifest_path);
   Scene scene;
   if (top.has("lights")) {

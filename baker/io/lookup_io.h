@@ -46,10 +46,19 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
 std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
                                      const std::string& expected_scene_hash = {});
 
+/// read_lookup with the manifest given as text (the content of
+/// DIR/manifest.json); the images it names are read from `dir`.
+std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
+                                              const std::string& dir, LookupInfo& info,
+                                              const std::string& expected_scene_hash = {});
+
 /// What a lookup folder records of its scene: the lights and the object
 /// names (nothing else is filled). Lets merge rewrite a manifest without the
 /// scene file.
 Scene read_lookup_scene(const std::string& dir);
+
+/// read_lookup_scene with the manifest given as text (DIR/manifest.json's content).
+Scene read_lookup_scene_manifest(const std::string& manifest_text, const std::string& dir);
 
 /// Joins partial bakes of one scene (same layout, disjoint or overlapping
 /// quads) into one lookup, identical to a whole bake of the union.

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "io/text_file.h"
 
 namespace clothbake::io {
 
@@ -93,11 +93,13 @@ bool resolve(long index, long count_at_line, long count_total, int& out) {
 }  // namespace
 
 QuadMesh read_obj_quads(const std::string& path) {
-  if (std::filesystem::is_directory(path))
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
     throw InputError("", "is a directory, expected an OBJ file", path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
+  return obj_quads_from_text(read_text_file(path), path);
+}
 
+QuadMesh obj_quads_from_text(std::string_view all, const std::string& path) {
   const ObjParser parser(path);
   QuadMesh mesh;
   std::vector<RawQuad> raw;
@@ -105,11 +107,14 @@ QuadMesh read_obj_quads(const std::string& path) {
   std::vector<std::pair<long, long>> counts_at_face;
 
   // Step 1: read statements line by line.
-  std::string text;
   int line = 0;
-  while (std::getline(in, text)) {
+  for (size_t begin = 0; begin < all.size();) {
+    // One line, as std::getline splits them: the last may lack its '\n'.
+    const size_t newline = all.find('\n', begin);
+    const size_t end = newline == std::string_view::npos ? all.size() : newline;
+    std::string_view s = all.substr(begin, end - begin);
+    begin = end + 1;
     ++line;
-    std::string_view s(text);
     if (const size_t hash = s.find('#'); hash != std::string_view::npos) s = s.substr(0, hash);
     if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
     const std::vector<std::string_view> tok = split_whitespace(s);
@@ -162,7 +167,6 @@ QuadMesh read_obj_quads(const std::string& path) {
                             "mtllib)");
     }
   }
-  if (in.bad()) throw InputError("", "read error", path);
   if (raw.empty())
     throw InputError("", "the mesh has no faces; clothbake needs at least one quad", path);
 

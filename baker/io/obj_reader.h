@@ -11,6 +11,7 @@
 /// without texture coordinates (the weave follows the UVs).
 
 #include <string>
+#include <string_view>
 
 #include "core/quad_mesh.h"
 
@@ -22,5 +23,8 @@ namespace clothbake::io {
 /// have no UVs, quads of zero area (area below 1e-12 of the squared diagonal
 /// of the mesh's bounding box) or of zero UV area, and a mesh without faces.
 QuadMesh read_obj_quads(const std::string& path);
+
+/// read_obj_quads of `text`, the content of `path` (which errors name).
+QuadMesh obj_quads_from_text(std::string_view text, const std::string& path);
 
 }  // namespace clothbake::io

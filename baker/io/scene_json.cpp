@@ -12,6 +12,7 @@
 #include "io/cloth_spec_json.h"
 #include "io/json_reader.h"
 #include "io/obj_reader.h"
+#include "io/text_file.h"
 
 namespace clothbake::io {
 
@@ -219,7 +220,7 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
   } else if (cloth.is_string()) {
     const fs::path cloth_path = relative_to(j.file(), cloth.get<std::string>());
     try {
-      object.cloth = load_cloth_spec(cloth_path.string());
+      object.cloth = load_cloth_spec_file(cloth_path.string());
     } catch (const InputError& e) {
       j.fail(j.field("cloth"), e.what());
     }
@@ -297,14 +298,16 @@ void check_camera_outside_cloth(const Scene& scene, const JsonObject& top) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) {
-  const nlohmann::json doc = read_json_file(path);
+Scene load_scene(const std::string& path) { return scene_from_text(read_text_file(path), path); }
+
+Scene scene_from_text(const std::string& text, const std::string& path) {
+  const nlohmann::json doc = parse_json_text(text, path);
   const JsonObject top(doc, "", path);
   top.allow_only({"name", "description", "camera", "lights", "objects", "background", "render"});
   Scene scene;
-  std::string text;
-  top.read("name", text);
-  top.read("description", text);
+  std::string label;  // name and description: checked as strings, not kept
+  top.read("name", label);
+  top.read("description", label);
 
   // Step 1: the cheap parts, so their errors come before any mesh is read.
   scene.camera = read_camera(top.object("camera"));

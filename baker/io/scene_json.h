@@ -19,4 +19,8 @@ namespace clothbake::io {
 /// thickness_world behind a quad's surface).
 Scene load_scene(const std::string& path);
 
+/// load_scene of `text`, the content of the scene file `path` (which errors
+/// name and relative paths start from).
+Scene scene_from_text(const std::string& text, const std::string& path);
+
 }  // namespace clothbake::io

@@ -116,5 +116,19 @@ TEST_F(ClothSpecJson, SceneUsesItsFirstObjectsCloth) {
   }
 }
 
+// A scene's cloth file must be a cloth spec: a scene naming itself (or
+// another scene) used to recurse until the stack overflowed.
+TEST_F(ClothSpecJson, SceneNamingASceneAsItsClothIsRefused) {
+  const std::string self = write("self.json", R"({"objects": [{"cloth": "self.json"}]})");
+  try {
+    (void)load_cloth_spec(self);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), self);
+    EXPECT_EQ(e.field(), "objects");
+    EXPECT_NE(e.message().find("unknown key"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace clothbake::io

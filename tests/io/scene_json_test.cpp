@@ -185,6 +185,9 @@ TEST_F(SceneJson, ErrorsNameTheField) {
             "camera.fov_deg | must be in (0, 180) degrees, got 180");
   EXPECT_EQ(error_of([](json& s) { s["camera"]["fov_deg"] = 0; }),
             "camera.fov_deg | must be in (0, 180) degrees, got 0");
+  // An integer above INT64_MAX is out of range, not wrapped to -1.
+  EXPECT_EQ(error_of([](json& s) { s["render"]["spp"] = 18446744073709551615ull; }),
+            "render.spp | integer out of range: 18446744073709551615");
   EXPECT_EQ(error_of([](json& s) { s["camera"]["fov_axis"] = "diagonal"; }),
             "camera.fov_axis | unknown value 'diagonal'; expected one of: horizontal, vertical");
   EXPECT_EQ(error_of([](json& s) {

@@ -1,0 +1,24 @@
+#include "io/text_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace clothbake::io {
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError("", "is not a regular file", path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError("", "read error", path);
+  return ss.str();
+}
+
+}  // namespace clothbake::io
