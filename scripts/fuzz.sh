@@ -58,15 +58,19 @@ for t in "${targets[@]}"; do
     >"$build/fuzz_$t.log" 2>&1
   rc=$?
   execs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$build/fuzz_$t.log" | tail -1 | awk '{print $2}')
+  # Coverage and the in-memory corpus from libFuzzer's last status line.
+  done_line=$(grep -E '^#[0-9]+.*(DONE|cov:)' "$build/fuzz_$t.log" | tail -1)
+  cov=$(grep -oE 'cov: [0-9]+' <<<"$done_line" | awk '{print $2}')
+  corp=$(grep -oE 'corp: [0-9]+' <<<"$done_line" | awk '{print $2}')
   new=$(($(find "$crashes" -type f | wc -l) - before))
   ((new > 0 || rc != 0)) && any_crash=1
-  summary+=("$(printf '%-11s %6s s %12s execs %7s corpus files %3s new crash files (exit %s)' \
-    "$t" "$seconds" "${execs:-?}" "$(find "$corpus" -type f | wc -l)" "$new" "$rc")")
+  summary+=("$(printf '%-11s %6s s %10s execs  cov %5s  corpus %5s (%6s files)  %3s new crash files (exit %s)' \
+    "$t" "$seconds" "${execs:-?}" "${cov:-?}" "${corp:-?}" "$(find "$corpus" -type f | wc -l)" "$new" "$rc")")
   if ((rc != 0)); then
     grep -m1 -E '^==[0-9]+==ERROR|runtime error|deadly signal|uncaught|terminate' "$build/fuzz_$t.log" >&2 || true
     log "$t: see $build/fuzz_$t.log and $crashes/"
   fi
 done
-log "summary (per target: seconds, executions, corpus, crashes)"
+log "summary (per target: seconds, executions, coverage edges, corpus kept (files on disk), crashes)"
 printf '%s\n' "${summary[@]}"
 exit "$any_crash"
