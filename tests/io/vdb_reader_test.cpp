@@ -287,6 +287,29 @@ TEST_F(VdbReader, TooLargeForTheMemoryBudget) {
                                                    " MiB, over the memory budget of 1 MiB");
 }
 
+TEST_F(VdbReader, MemoryIsEstimatedBeforeAnyVoxelIsRead) {
+  // The grids' metadata claim a huge box; the voxels are the small texture.
+  // Refused by the estimate, so the claim was checked before the voxels.
+  openvdb::io::File in(m_good);
+  in.open();
+  const openvdb::GridPtrVecPtr grids = in.getGrids();
+  in.close();
+  for (const auto& g : *grids) {
+    g->insertMeta(openvdb::GridBase::META_FILE_BBOX_MIN, openvdb::Vec3IMetadata({0, 0, 0}));
+    g->insertMeta(openvdb::GridBase::META_FILE_BBOX_MAX,
+                  openvdb::Vec3IMetadata({99999, 99999, 999}));
+  }
+  const std::string path = (m_dir / "claims_huge.vdb").string();
+  openvdb::io::File out(path);
+  out.setGridStatsMetadataEnabled(false);  // keep the claim
+  out.write(*grids);
+  out.close();
+  const uint64_t need = estimated_vdb_read_bytes(uint64_t(100000) * 100000 * 1000);
+  EXPECT_EQ(error_of(path), path + ": 100000 x 100000 x 1000 voxels need an estimated " +
+                                std::to_string(need / (1024 * 1024)) +
+                                " MiB, over the memory budget of 1024 MiB");
+}
+
 TEST_F(VdbReader, OffsetGridStartsAtItsActiveBox) {
   // A texture edited elsewhere may sit anywhere in index space: its active
   // box's minimum becomes cell (0, 0, 0).
