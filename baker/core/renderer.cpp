@@ -44,10 +44,13 @@ Renderer::Renderer(const Scene& scene, uint64_t memory_budget_bytes,
     const ClothObject& src = scene.objects[o];
     Object& obj = m_objects[o];
     obj.source = &src;
-    obj.volume = o < volumes.size() && volumes[o]
-                     ? volumes[o]
-                     : std::make_shared<const VolumeTexture>(
-                           generate_volume(src.cloth, memory_budget_bytes));
+    if (o < volumes.size() && volumes[o])
+      obj.volume = volumes[o];
+    else if (src.volume)
+      obj.volume = src.volume;
+    else
+      obj.volume =
+          std::make_shared<const VolumeTexture>(generate_volume(src.cloth, memory_budget_bytes));
     obj.shader = std::make_unique<FiberShader>(rs.fiber_model, src.cloth.shading.fiber_aspect,
                                                src.cloth.shading.exponent, rs.fiber_samples,
                                                hash_key(rs.seed, 0x7461626c65ull, o));

@@ -46,9 +46,10 @@ class Renderer {
   using HitShader = std::function<MarchResult(int object, int quad, float s, float t,
                                               const Imath::V3f& ray_dir_world, Rng& rng)>;
 
-  /// Prepares every object: its volume texture (refused over the memory
+  /// Prepares every object: its volume texture (the object's `volume` if
+  /// set, else generated from its cloth spec and refused over the memory
   /// budget), its fibre shader and its quad patches. `volumes`, if given,
-  /// replaces the generated volume of each object (tests, bakes reusing one).
+  /// replaces the volume of each object (tests, bakes reusing one).
   Renderer(const Scene& scene, uint64_t memory_budget_bytes,
            std::vector<std::shared_ptr<const VolumeTexture>> volumes = {});
   ~Renderer();

@@ -86,7 +86,11 @@ ClothSpec load_cloth_spec(const std::string& path) {
   if (!objects.is_array() || objects.empty())
     top.fail("objects", "expected a non-empty array of cloth objects");
   const JsonObject first(objects[0], "objects[0]", path);
-  if (!first.has("cloth")) first.fail("objects[0].cloth", "missing");
+  if (!first.has("cloth"))
+    first.fail("objects[0].cloth",
+               first.has("volume") ? "missing; this object's texture is read from its \"volume\" "
+                                     "VDB, there is no cloth spec to generate from"
+                                   : "missing");
   const auto& cloth = first.raw("cloth");
   if (cloth.is_string()) {
     const std::filesystem::path rel = cloth.get<std::string>();

@@ -352,6 +352,8 @@ std::string scene_fingerprint(const Scene& scene) {
     f.add(o.extinction_per_mm);
     f.add(o.isotropic_albedo);
     add_cloth(f, o.cloth);
+    // A texture read from a VDB: its contents, so an edited file is a new scene.
+    if (o.volume) f.add(o.volume->content_hash());
   }
   // Lights: only what the light's type uses.
   f.add(uint64_t(scene.lights.size()));
