@@ -57,6 +57,7 @@ void run_bake_command(BakeArgs args) {
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
   // Step 1: read and check everything, and refuse what cannot fit, before
   // any output exists.
+  io::check_lookup_destination(args.out_dir);
   const Scene scene = io::load_scene(args.scene);
   std::unique_ptr<Renderer> renderer;
   BakePlan plan;

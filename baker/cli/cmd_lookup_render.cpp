@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -13,6 +14,7 @@
 #include "cli/thread_limit.h"
 #include "core/baker.h"
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/lookup_io.h"
 #include "io/progress.h"
@@ -25,14 +27,27 @@ namespace {
 struct LookupRenderArgs {
   std::string scene, bake_dir, out_exr, out_png;
   int spp = 0, threads = 0;
+  double memory_gib = 0.0;
   long long seed = -1;
   bool quiet = false;
 };
 
 void run_lookup_render(const LookupRenderArgs& args) {
   const auto threads = limit_threads(args.threads);
+  // Step 1: everything is read and checked before any work or output.
+  if (std::filesystem::path(args.out_exr).extension() != ".exr")
+    throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
+  io::check_output_folder(args.out_exr, "-o");
+  if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
+  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
+                                                : io::default_memory_budget_bytes();
+  try {
+    check_render_memory(scene.camera, budget);
+  } catch (const InputError& e) {
+    throw e.in_file(args.scene);
+  }
   io::LookupInfo info;
   const std::vector<LookupTable> tables =
       io::read_lookup(args.bake_dir, info, io::scene_fingerprint(scene));
@@ -41,7 +56,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
   if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;
   try {
-    renderer = std::make_unique<Renderer>(scene, io::default_memory_budget_bytes());
+    renderer = std::make_unique<Renderer>(scene, budget);
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }
@@ -55,8 +70,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
   io::ProgressBar bar("lookup-render", args.quiet);
   const Image image = renderer->render_with(&shader, [&](double f) { bar.update(f); });
   bar.finish();
-  io::write_exr(args.out_exr, image);
-  if (!args.out_png.empty()) io::write_png(args.out_png, image.rgb(), true);
+  io::write_render_images(args.out_exr, args.out_png, image);
   if (misses > 0)
     std::fprintf(stderr,
                  "lookup-render: %llu lookups fell on quads or directions the bake did not "
@@ -79,6 +93,9 @@ void register_lookup_render_command(CLI::App& app) {
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--memory-gib", args->memory_gib,
+                  "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->callback([args] { run_lookup_render(*args); });
