@@ -60,11 +60,32 @@ void run_lookup_render(const LookupRenderArgs& args) {
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }
+  // Step 2: the lookup must be of this scene's meshes and volumes (the scene
+  // hash covers the specs; a volume generator of another version does not).
+  const std::string manifest = args.bake_dir + "/manifest.json";
   if (int(tables.size()) != renderer->object_count())
     throw InputError("objects",
                      "the lookup has " + std::to_string(tables.size()) + " objects, the scene " +
                          std::to_string(renderer->object_count()),
-                     args.bake_dir + "/manifest.json");
+                     manifest);
+  for (int o = 0; o < renderer->object_count(); ++o) {
+    const std::string field = "objects[" + std::to_string(o) + "]";
+    if (tables[o].quad_count() != renderer->quad_count(o))
+      throw InputError(field + ".quads",
+                       "the lookup has " + std::to_string(tables[o].quad_count()) +
+                           " quads, the scene's mesh " + std::to_string(renderer->quad_count(o)) +
+                           "; bake again",
+                       manifest);
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx",
+                  (unsigned long long)renderer->volume(o).content_hash());
+    if (!info.cloth_hashes[o].empty() && info.cloth_hashes[o] != hex)
+      throw InputError(field + ".cloth_hash",
+                       "the lookup was baked from a volume with hash " + info.cloth_hashes[o] +
+                           ", this scene's cloth gives " + hex +
+                           " (another cloth or another clothbake version); bake again",
+                       manifest);
+  }
   std::atomic<uint64_t> misses{0};
   const Renderer::HitShader shader = lookup_shader(*renderer, tables, &misses);
   io::ProgressBar bar("lookup-render", args.quiet);
@@ -93,7 +114,7 @@ void register_lookup_render_command(CLI::App& app) {
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--memory-gib", args->memory_gib,
                   "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);

@@ -86,7 +86,7 @@ void register_render_command(CLI::App& app) {
   cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene)")
       ->check(CLI::Range(1, 65536));
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--memory-gib", args->memory_gib,
                   "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);

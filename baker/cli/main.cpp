@@ -25,7 +25,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version succeed; a bad argument is an error like any other
+    // (one line naming the option, exit status 1), not CLI11's own codes.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "clothbake: error: %s\nRun with --help for more information.\n", e.what());
+    return 1;
   } catch (const clothbake::InputError& e) {
     std::fprintf(stderr, "clothbake: error: %s\n", e.what());
     return 1;

@@ -1,6 +1,7 @@
 #include "io/json_reader.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -37,6 +38,9 @@ std::string line_col(const std::string& text, size_t byte) {
 }  // namespace
 
 nlohmann::json read_json_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("", "is a folder, expected a JSON file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
   std::stringstream ss;

@@ -507,7 +507,9 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
     const json& sizes = required(obj, "sizes");
     if (!sizes.is_array() || sizes.size() != size_t(quads))
       obj.fail(obj.field("sizes"),
-               "expected an array of " + std::to_string(quads) + " integers (one per quad)");
+               "expected an array of " + std::to_string(quads) + " integers (one per quad), got " +
+                   type_name(sizes) +
+                   (sizes.is_array() ? " of " + std::to_string(sizes.size()) : ""));
     t.sizes = int_array(obj, sizes, obj.field("sizes"), size_t(quads));
     for (int q = 0; q < quads; ++q)
       if (t.sizes[q] < 0 || t.sizes[q] > 65536)
@@ -517,7 +519,9 @@ std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
     const json& baked = required(obj, "baked");
     if (!baked.is_array() || baked.size() != size_t(quads))
       obj.fail(obj.field("baked"),
-               "expected an array of " + std::to_string(quads) + " strings (one per quad)");
+               "expected an array of " + std::to_string(quads) + " strings (one per quad), got " +
+                   type_name(baked) +
+                   (baked.is_array() ? " of " + std::to_string(baked.size()) : ""));
     const int nodes = t.node_count();
     t.baked.assign(size_t(quads) * nodes, 0);
     for (size_t q = 0; q < baked.size(); ++q) {
@@ -643,11 +647,14 @@ std::vector<LookupTable> merge_lookups(const std::vector<std::string>& dirs, Loo
     LookupInfo part_info;
     std::vector<LookupTable> part = read_lookup(dirs[p], part_info);
     auto differs = [&](const std::string& what, const std::string& detail = {}) {
-      throw InputError("", what + " differs from " + dirs[0] + detail, dirs[p]);
+      throw InputError("",
+                       what + " differs from " + (fs::path(dirs[0]) / k_manifest_name).string() +
+                           detail + "; parts to merge must come from one scene and one bake",
+                       (fs::path(dirs[p]) / k_manifest_name).string());
     };
     if (part_info.scene_hash != first_info.scene_hash)
-      differs("scene_hash", " (" + part_info.scene_hash + " here, " + first_info.scene_hash +
-                                " there): parts of different scenes");
+      differs("scene_hash",
+              " (" + part_info.scene_hash + " here, " + first_info.scene_hash + " there)");
     if (part.size() != merged.size()) differs("the number of objects");
     if (!part.empty() && part[0].dirs.k != merged[0].dirs.k) differs("direction_map.k");
     if (!part.empty() && part[0].dirs.map != merged[0].dirs.map) differs("direction_map.type");
