@@ -94,7 +94,7 @@ bool resolve(long index, long count_at_line, long count_total, int& out) {
 
 QuadMesh read_obj_quads(const std::string& path) {
   if (std::filesystem::is_directory(path))
-    throw InputError("", "is a directory, expected an OBJ file", path);
+    throw InputError("", "is a folder, expected an OBJ file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
 
@@ -212,6 +212,13 @@ QuadMesh read_obj_quads(const std::string& path) {
       p[c] = Imath::V3d(pf.x, pf.y, pf.z);
       t[c] = Imath::V2d(mesh.uvs[q.uv[c]].x, mesh.uvs[q.uv[c]].y);
     }
+    // A collapsed edge leaves a triangle: its patch has a singular side.
+    for (int c = 0; c < 4; ++c)
+      for (int d = c + 1; d < 4; ++d)
+        if (p[c] == p[d])
+          parser.fail(raw[f].line, "corners " + std::to_string(c + 1) + " and " +
+                                       std::to_string(d + 1) +
+                                       " are the same point; a quad needs four distinct corners");
     const double area = 0.5 * ((p[2] - p[0]).cross(p[3] - p[1])).length();
     if (area == 0.0 || area < 1e-12 * diag2)
       parser.fail(raw[f].line, "quad has zero area (" + format_number(area) +
