@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -146,6 +148,10 @@ void check_output_folder(const std::string& final_path, const std::string& optio
     throw InputError(option, dir.string() + " is not a folder", final_path);
   if (fs::is_directory(p, ec))
     throw InputError(option, "is a folder; expected a file name", final_path);
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError(option,
+                     "cannot write in the folder " + dir.string() + ": " + std::strerror(errno),
+                     final_path);
 }
 
 void ensure_directory(const std::string& dir) {

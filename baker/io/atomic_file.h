@@ -58,8 +58,9 @@ void write_atomically(const std::string& final_path,
 void write_all_atomically(
     const std::vector<std::pair<std::string, std::function<void(const std::string&)>>>& files);
 
-/// Refuses an output path whose folder does not exist or is not a folder,
-/// before any work is done (the write itself still reports other failures).
+/// Refuses an output path whose folder does not exist, is not a folder or is
+/// not writable, before any work is done (the write itself still reports
+/// other failures: a full disk, a quota).
 /// `option` names the command-line option ("-o", "--png").
 void check_output_folder(const std::string& final_path, const std::string& option);
 

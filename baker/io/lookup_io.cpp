@@ -382,7 +382,13 @@ std::string scene_fingerprint(const Scene& scene) {
 
 void check_lookup_destination(const std::string& dir) {
   std::error_code ec;
-  const fs::path final_dir(dir);
+  fs::path final_dir(dir);
+  if (!final_dir.has_filename()) final_dir = final_dir.parent_path();  // "out/" -> "out"
+  // The swap renames inside the parent: it must be writable (if it exists yet).
+  const fs::path parent = final_dir.has_parent_path() ? final_dir.parent_path() : fs::path(".");
+  if (fs::is_directory(parent, ec) && ::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw InputError(
+        "", "cannot write in the folder " + parent.string() + ": " + std::strerror(errno), dir);
   if (!fs::exists(final_dir, ec)) return;
   if (!fs::is_directory(final_dir, ec)) throw InputError("", "exists and is not a folder", dir);
   if (!fs::is_empty(final_dir, ec) && !fs::exists(final_dir / k_manifest_name, ec))
