@@ -10,6 +10,8 @@
 #include <limits>
 #include <system_error>
 
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
@@ -435,9 +437,16 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
   }
 
   // Step 2: swap it in; the previous folder survives until the new one is in
-  // place, and an interrupt cannot fall between the two renames.
+  // place. Where the file system can, one exchange of the two names (so not
+  // even a kill -9 finds the final name missing); else two renames, between
+  // which an interrupt cannot fall (publish holds the interrupt lock).
   unfinished.publish([&] {
     const bool had_old = fs::exists(final_dir, ec);
+    if (had_old && ::renameat2(AT_FDCWD, temp_dir.c_str(), AT_FDCWD, final_dir.c_str(),
+                               RENAME_EXCHANGE) == 0) {
+      fs::remove_all(temp_dir, ec);  // now the previous lookup
+      return;
+    }
     if (had_old) {
       fs::remove_all(old_dir, ec);
       fs::rename(final_dir, old_dir, ec);
