@@ -39,6 +39,14 @@ struct TraceResult {
   uint64_t samples = 0;
 };
 
+/// Bytes a render of `camera` holds at its peak: the float RGBA image and the
+/// float copy the EXR writer makes of it (32 bytes per pixel).
+uint64_t render_image_bytes(const PinholeCamera& camera);
+
+/// Refuses, before anything is allocated, a camera whose image would not fit
+/// `memory_budget_bytes`: InputError on "camera.resolution" with the estimate.
+void check_render_memory(const PinholeCamera& camera, uint64_t memory_budget_bytes);
+
 class Renderer {
  public:
   /// Computes what one cloth surface point shows along a ray: by default the

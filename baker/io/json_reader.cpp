@@ -1,6 +1,9 @@
 #include "io/json_reader.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -37,8 +40,16 @@ std::string line_col(const std::string& text, size_t byte) {
 }  // namespace
 
 nlohmann::json read_json_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("", "is a folder, expected a JSON file", path);
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
+  if (!in)
+    throw InputError("",
+                     std::string("cannot open file (missing or unreadable): ") +
+                         (errno != 0 ? std::strerror(errno) : "open failed"),
+                     path);
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();

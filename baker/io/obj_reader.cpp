@@ -1,9 +1,11 @@
 #include "io/obj_reader.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string_view>
@@ -94,9 +96,14 @@ bool resolve(long index, long count_at_line, long count_total, int& out) {
 
 QuadMesh read_obj_quads(const std::string& path) {
   if (std::filesystem::is_directory(path))
-    throw InputError("", "is a directory, expected an OBJ file", path);
+    throw InputError("", "is a folder, expected an OBJ file", path);
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
+  if (!in)
+    throw InputError("",
+                     std::string("cannot open file (missing or unreadable): ") +
+                         (errno != 0 ? std::strerror(errno) : "open failed"),
+                     path);
 
   const ObjParser parser(path);
   QuadMesh mesh;
@@ -216,6 +223,13 @@ QuadMesh read_obj_quads(const std::string& path) {
     if (area == 0.0 || area < 1e-12 * diag2)
       parser.fail(raw[f].line, "quad has zero area (" + format_number(area) +
                                    " square units); clothbake cannot map a texture onto it");
+    // A collapsed edge leaves a triangle: its patch has a singular side.
+    for (int c = 0; c < 4; ++c)
+      for (int d = c + 1; d < 4; ++d)
+        if (p[c] == p[d])
+          parser.fail(raw[f].line, "corners " + std::to_string(c + 1) + " and " +
+                                       std::to_string(d + 1) +
+                                       " are the same point; a quad needs four distinct corners");
     const Imath::V2d a = t[2] - t[0], b = t[3] - t[1];
     const double uv_area = 0.5 * std::fabs(a.x * b.y - a.y * b.x);
     if (uv_area == 0.0 || uv_area < 1e-12 * uv_diag2)

@@ -315,7 +315,7 @@ TEST_F(SceneJson, ReferencedFilesAreNamedWithTheSceneField) {
             "objects[0].cloth | " + spec + ": crimp: expected a number, got a string");
   EXPECT_EQ(error_of([](json& s) { s["objects"][0]["cloth"] = "none.json"; }),
             "objects[0].cloth | " + (m_dir / "none.json").string() +
-                ": cannot open file (missing or unreadable)");
+                ": cannot open file (missing or unreadable): No such file or directory");
   EXPECT_EQ(error_of([](json& s) { s["objects"][0]["mesh"] = "missing.obj"; }),
             "objects[0].mesh | mesh file not found: " + (m_dir / "missing.obj").string());
   const std::string tri = write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
