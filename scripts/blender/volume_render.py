@@ -4,10 +4,11 @@ puts it, with the scene's camera, lights and background.
 
   blender -b --factory-startup --python-exit-code 1 -P volume_render.py -- \
       SCENE.json VOLUME_DIR TILED.vdb LIGHT_UNITS.json OUT_DIR \
-      --samples 1,4,16 [--seed S] [--color albedo|grid] [--voxel-shift 0.5] [--tag volume]
+      --samples 1,4,16 [--seed S[,S2..]] [--color albedo|grid] [--voxel-shift 0.5] \
+      [--step-rate 1] [--interpolation LINEAR|CUBIC] [--tag volume]
 
 Writes OUT_DIR/TAG_sN_seedS.exr (linear RGBA float) per sample count and
-OUT_DIR/TAG_seedS_timing.json: load seconds (scene set-up and loading the
+seed, and per seed OUT_DIR/TAG_seedS_timing.json: load seconds (scene set-up and loading the
 VDB's grids) and, per sample count, the wall seconds of
 bpy.ops.render.render() alone (Cycles' scene sync, volume upload and
 sampling; saving the EXR is excluded) and the CPU seconds (user + system,
@@ -21,7 +22,8 @@ Physics (docs/scene-format.md; clothbake's `isotropic` shading):
   density, scattering = Color x density), anisotropy 0 (isotropic phase).
 - volume_bounces 0: single scattering with shadowed direct light (see
   ../shared/BLENDER_NOTES.md), the same as clothbake's march.
-- Volume precision FULL, step rate 1 (one voxel).
+- Volume precision FULL, step rate 1 (one voxel; --step-rate r: r voxels),
+  trilinear lookup (--interpolation CUBIC: the material's cubic lookup).
 - Lights: Sun strength and point power from the measured LIGHT_UNITS.json
   (scripts/blender/light_units.py): strength = intensity / (irradiance per
   unit strength), power = intensity / (irradiance at 1 unit per watt).
@@ -59,7 +61,7 @@ def cpu_seconds():
 def parse():
     argv = sys.argv[sys.argv.index("--") + 1:]
     pos, opt = [], {"samples": "1", "seed": "1", "color": "albedo", "voxel-shift": "0.5",
-                    "tag": "volume", "threads": "0"}
+                    "tag": "volume", "threads": "0", "step-rate": "1", "interpolation": "LINEAR"}
     i = 0
     while i < len(argv):
         if argv[i].startswith("--"):
@@ -77,7 +79,7 @@ def main():
     t_start = time.perf_counter()
     (scene_path, vdir, tiled, units_path, out_dir), opt = parse()
     samples = [int(s) for s in opt["samples"].split(",")]
-    seed = int(opt["seed"])
+    seeds = [int(s) for s in opt["seed"].split(",")]
     shift = float(opt["voxel-shift"])
     with open(os.path.join(vdir, "volume.json")) as f:
         vmeta = json.load(f)
@@ -133,6 +135,7 @@ def main():
         pv.inputs["Color"].default_value = tuple(lay["albedo"]) + (1.0,)
     outn = nt.nodes.new("ShaderNodeOutputMaterial")
     nt.links.new(pv.outputs["Volume"], outn.inputs["Volume"])
+    mat.cycles.volume_interpolation = opt["interpolation"]
     ob.data.materials.append(mat)
 
     # Lights.
@@ -208,14 +211,13 @@ def main():
     cy.device = "CPU"
     cy.use_adaptive_sampling = False
     cy.use_denoising = False
-    cy.seed = seed
     cy.pixel_filter_type = "BOX"
     cy.filter_width = 1.0
     cy.max_bounces = 1024  # volume_bounces 0 is what limits the paths
     cy.volume_bounces = 0
     cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 0
     cy.transparent_max_bounces = 64
-    cy.volume_step_rate = 1.0
+    cy.volume_step_rate = float(opt["step-rate"])
     cy.volume_max_steps = 1024
     cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
     cy.use_auto_tile = False
@@ -227,22 +229,25 @@ def main():
     load_s = time.perf_counter() - t_start
     os.makedirs(out_dir, exist_ok=True)
     tag = opt["tag"]
-    runs = []
-    for ns in samples:
-        cy.samples = ns
-        c0, t0 = cpu_seconds(), time.perf_counter()
-        bpy.ops.render.render()
-        dt, dc = time.perf_counter() - t0, cpu_seconds() - c0
-        path = os.path.join(out_dir, "%s_s%d_seed%d.exr" % (tag, ns, seed))
-        bpy.data.images["Render Result"].save_render(path)
-        runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
-                     "exr": path})
-        print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
-    info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
-            "density_per_world": lay["extinction_per_world"], "object_matrix": [list(row) for row in m],
-            "runs": runs}
-    with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
-        json.dump(info, f, indent=2)
+    for seed in seeds:
+        cy.seed = seed
+        runs = []
+        for ns in samples:
+            cy.samples = ns
+            c0, t0 = cpu_seconds(), time.perf_counter()
+            bpy.ops.render.render()
+            dt, dc = time.perf_counter() - t0, cpu_seconds() - c0
+            path = os.path.join(out_dir, "%s_s%d_seed%d.exr" % (tag, ns, seed))
+            bpy.data.images["Render Result"].save_render(path)
+            runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
+                         "exr": path})
+            print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
+        info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
+                "step_rate": cy.volume_step_rate, "interpolation": opt["interpolation"],
+                "density_per_world": lay["extinction_per_world"],
+                "object_matrix": [list(row) for row in m], "runs": runs}
+        with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
+            json.dump(info, f, indent=2)
 
 
 main()
