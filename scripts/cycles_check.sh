@@ -27,8 +27,9 @@
 # sets them) and exits 1 if any fails. --figures DIR writes the comparison
 # PNGs there (DIR/cycles_check_slab.png, DIR/cycles_check_flat.png).
 # Environment: CLOTHBAKE (default build/baker/clothbake), BLENDER (blender),
-# SLAB_CY_SPP (512), FLAT_CY_SPP (128), CB_SPP (64), CY_ARGS (extra
-# volume_render.py options, e.g. "--voxel-shift 1.5" for experiments).
+# SLAB_CY_SPP (512), FLAT_CY_SPP (128), SLAB_CB_SPP (64), FLAT_CB_SPP (16),
+# SCENES ("slab flat"), CY_ARGS (extra volume_render.py options, e.g.
+# "--voxel-shift 1.5" for experiments).
 # About 1.5 minutes on the idle 2-core machine.
 set -euo pipefail
 
@@ -38,7 +39,9 @@ BLENDER=${BLENDER:-blender}
 PY=/usr/bin/python3
 SLAB_CY_SPP=${SLAB_CY_SPP:-512}
 FLAT_CY_SPP=${FLAT_CY_SPP:-128}
-CB_SPP=${CB_SPP:-64}
+SLAB_CB_SPP=${SLAB_CB_SPP:-64}
+FLAT_CB_SPP=${FLAT_CB_SPP:-16}
+SCENES=${SCENES:-slab flat}
 CY_ARGS=${CY_ARGS:-}
 OUT=$ROOT/out/cycles_check
 CHECK=0
@@ -80,7 +83,7 @@ blender_run() {  # quiet unless Blender fails
   fi
   grep -E '^volume_render:' "$log" || true
 }
-cb_render() { "$CLOTHBAKE" render "$SCENE" -o "$OUT/$NAME/clothbake.exr" --spp "$CB_SPP" --quiet; }
+cb_render() { "$CLOTHBAKE" render "$SCENE" -o "$OUT/$NAME/clothbake.exr" --spp "$cb_spp" --quiet; }
 cb_volume() { "$CLOTHBAKE" volume "$SCENE" -o "$OUT/$NAME/volume" > /dev/null; }
 tile() { "$PY" "$ROOT/scripts/tile_volume.py" "$SCENE" "$OUT/$NAME/volume" "$OUT/$NAME/tiled.vdb" > /dev/null; }
 cycles() {
@@ -91,12 +94,14 @@ cycles() {
 }
 
 status=0
-for NAME in slab flat; do
+for NAME in $SCENES; do
   SCENE=$ROOT/testscenes/$NAME/cycles_check.json
   mkdir -p "$OUT/$NAME"
   : > "$OUT/$NAME/seconds.tsv"
-  if [[ $NAME == slab ]]; then spp=$SLAB_CY_SPP; else spp=$FLAT_CY_SPP; fi
-  echo "== $NAME: clothbake volume, tile, clothbake render ($CB_SPP spp), Cycles (2 x $spp spp)"
+  up=${NAME^^}
+  spp_var=${up}_CY_SPP; cb_spp_var=${up}_CB_SPP
+  spp=${!spp_var}; cb_spp=${!cb_spp_var}
+  echo "== $NAME: clothbake volume, tile, clothbake render ($cb_spp spp), Cycles (2 x $spp spp)"
   timed cb_volume
   timed tile
   timed cb_render
@@ -104,7 +109,6 @@ for NAME in slab flat; do
   args=()
   [[ -n $FIGURES ]] && { mkdir -p "$FIGURES"; args+=(--figure "$FIGURES/cycles_check_$NAME.png"); }
   if [[ $CHECK == 1 ]]; then
-    up=${NAME^^}
     psnr_var=${up}_MIN_PSNR; ratio_var=${up}_RATIO
     args+=(--min-psnr "${!psnr_var:?$psnr_var not set}" --ratio-range "${!ratio_var:?$ratio_var not set}")
   fi

@@ -140,7 +140,7 @@ def main():
     box4 = compare(clothbake, cb_path, cy_path, 4)
     noise_rmse = float(np.sqrt((half_diff ** 2).mean()))
     noise_rel = noise_rmse / full["reference_mean"]
-    noise_psnr = 20 * math.log10(full["reference_peak"] / noise_rmse)
+    noise_psnr = 20 * math.log10(full["reference_peak"] / noise_rmse) if noise_rmse > 0 else math.inf
     sys_rel = math.sqrt(max(full["relative_rmse"] ** 2 - noise_rel ** 2, 0.0))
     # 4 x 4 box average: per-pixel noise variance / 16 (independent pixels).
     sys_rel4 = math.sqrt(max(box4["relative_rmse"] ** 2 - noise_rel ** 2 / 16, 0.0))
