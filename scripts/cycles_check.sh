@@ -23,12 +23,13 @@
 # intensity I is P = 4 pi I watts. A wrong conversion therefore fails the check.
 #
 # --check applies the bounds given in the environment (SLAB_MIN_PSNR,
-# SLAB_RATIO, FLAT_MIN_PSNR, FLAT_RATIO: "LO,HI"; tests/blender/cycles_check.sh
-# sets them) and exits 1 if any fails. --figures DIR writes the comparison
+# SLAB_MIN_PSNR4 (after 4 x 4 box averaging), SLAB_RATIO ("LO,HI"), and the
+# same for FLAT_; tests/blender/cycles_check.sh sets them) and exits 1 if any fails. --figures DIR writes the comparison
 # PNGs there (DIR/cycles_check_slab.png, DIR/cycles_check_flat.png).
 # Environment: CLOTHBAKE (default build/baker/clothbake), BLENDER (blender),
 # SLAB_CY_SPP (512), FLAT_CY_SPP (128), SLAB_CB_SPP (64), FLAT_CB_SPP (16),
-# SCENES ("slab flat"), CY_ARGS (extra volume_render.py options, e.g.
+# SCENES ("slab flat"), REUSE (1: keep OUT_DIR's volumes and clothbake
+# renders from an earlier run, render Cycles only), CY_ARGS (extra volume_render.py options, e.g.
 # "--voxel-shift 1.5" for experiments).
 # About 1.5 minutes on the idle 2-core machine.
 set -euo pipefail
@@ -102,15 +103,20 @@ for NAME in $SCENES; do
   spp_var=${up}_CY_SPP; cb_spp_var=${up}_CB_SPP
   spp=${!spp_var}; cb_spp=${!cb_spp_var}
   echo "== $NAME: clothbake volume, tile, clothbake render ($cb_spp spp), Cycles (2 x $spp spp)"
-  timed cb_volume
-  timed tile
-  timed cb_render
+  if [[ ${REUSE:-0} == 1 && -f $OUT/$NAME/clothbake.exr && -f $OUT/$NAME/tiled.vdb ]]; then
+    echo "   reusing $OUT/$NAME: volume, tiled.vdb, clothbake.exr"
+  else
+    timed cb_volume
+    timed tile
+    timed cb_render
+  fi
   timed cycles "$spp"
   args=()
   [[ -n $FIGURES ]] && { mkdir -p "$FIGURES"; args+=(--figure "$FIGURES/cycles_check_$NAME.png"); }
   if [[ $CHECK == 1 ]]; then
-    psnr_var=${up}_MIN_PSNR; ratio_var=${up}_RATIO
-    args+=(--min-psnr "${!psnr_var:?$psnr_var not set}" --ratio-range "${!ratio_var:?$ratio_var not set}")
+    psnr_var=${up}_MIN_PSNR; psnr4_var=${up}_MIN_PSNR4; ratio_var=${up}_RATIO
+    args+=(--min-psnr "${!psnr_var:?$psnr_var not set}" --min-psnr4 "${!psnr4_var:?$psnr4_var not set}"
+           --ratio-range "${!ratio_var:?$ratio_var not set}")
   fi
   "$PY" "$ROOT/scripts/cycles_check_report.py" "$NAME" "$CLOTHBAKE" "$OUT/$NAME/clothbake.exr" \
     "$OUT/$NAME/cycles_s${spp}_seed1.exr" "$OUT/$NAME/cycles_s${spp}_seed2.exr" "$OUT/$NAME" \
