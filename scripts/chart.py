@@ -152,6 +152,8 @@ def main():
     render_series("render: step 0.125", {"step_cells": 0.125}, spps[:3])
     if not isotropic:
         render_series("render: cached transmittance", {"transmittance": "cached"})
+        render_series("render: ellipsoid fibre, 16 samples", {"fiber_model": "ellipsoid",
+                                                              "fiber_samples": 16}, spps[1:3])
         render_series("render: ellipsoid fibre, 64 samples", {"fiber_model": "ellipsoid",
                                                               "fiber_samples": 64}, spps[1:3])
         render_series("render: Kajiya-Kay fibre", {"fiber_model": "kajiya-kay"}, spps[1:3])

@@ -3,22 +3,33 @@
 # offers on the paper scene (half resolution) and on testscenes/flat (grazing
 # views, isotropic shading, where Cycles can also render the real volume),
 # writing out/chart/<scene>/points.csv and charts as PNG and SVG under
-# docs/images/chart_<scene>.{png,svg}. About 25 minutes on the 2-core machine;
+# docs/images/chart_<scene>.{png,svg} with the points as a Markdown table
+# (chart_<scene>.md). About 30 minutes on the 2-core machine;
 # run it on an otherwise idle machine (the seconds are the point).
-#   scripts/chart.sh [--quick]
+#   scripts/chart.sh [--quick] [SCENE...]     (scenes: paper flat, the default)
 source "$(dirname "$0")/lib.sh"
 install_packages
 build_all
 quick=()
-[[ ${1:-} == --quick ]] && quick=(--quick --runs 1 --ref-spp 16)
+if [[ ${1:-} == --quick ]]; then
+  quick=(--quick --runs 1 --ref-spp 16)
+  shift
+fi
+scenes=("$@")
+((${#scenes[@]})) || scenes=(paper flat)
 out="$CLOTHBAKE_ROOT/out/chart"
 mkdir -p "$out"
 { date -u; git -C "$CLOTHBAKE_ROOT" rev-parse --short HEAD; lscpu | grep -E "Model name|^CPU\(s\)"; free -g | head -2; blender --version 2>/dev/null | head -1; } >"$out/machine.txt"
-for scene in paper flat; do
+for scene in "${scenes[@]}"; do
   scale=1.0
   [[ $scene == paper ]] && scale=0.5
   extra=()
   timing="$CLOTHBAKE_ROOT/out/flat/vol/volume_seed1_timing.json"
+  if [[ $scene == flat && ! -f $timing && ${#quick[@]} -eq 0 ]]; then
+    # The real-volume route's renders (about 5 minutes) are made once and reused.
+    log "Cycles real-volume renders of the flat scene (scripts/cycles_volume_timing.sh)"
+    CLOTHBAKE="$CLOTHBAKE_BUILD/baker/clothbake" bash "$CLOTHBAKE_ROOT/scripts/cycles_volume_timing.sh"
+  fi
   if [[ $scene == flat && -f $timing ]]; then
     # Cycles rendering the real volume (scripts/cycles_volume_timing.sh, run
     # before): its renders, timed inside Blender (load + render), join the chart.
@@ -39,6 +50,7 @@ PY
   /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/chart.py" "$CLOTHBAKE_ROOT/testscenes/$scene/scene.json" \
     --name "$scene" --out "$out/$scene" --scale "$scale" "${quick[@]}" "${extra[@]}"
   /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/plot_chart.py" "$out/$scene/points.csv" \
-    "$CLOTHBAKE_ROOT/docs/images/chart_$scene" --title "clothbake: $scene scene, error against time"
+    "$CLOTHBAKE_ROOT/docs/images/chart_$scene" --title "clothbake: $scene scene, error against time" \
+    --machine "$out/machine.txt"
 done
-log "done: $out/*/points.csv, docs/images/chart_{paper,flat}.{png,svg}"
+log "done: $out/*/points.csv, docs/images/chart_{paper,flat}.{png,svg,md}"

@@ -26,7 +26,8 @@ cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/clothbake_fuzz_}"
 # Seeds per target: the shipped inputs and the bad inputs of the CLI tests.
 seeds() {
   case $1 in
-    scene) ls "$src"/testscenes/*/scene.json "$src"/tests/cli/bad_scenes/*.json ;;
+    scene) ls "$src"/testscenes/*/scene.json "$src"/tests/fuzz/seeds/scene/* \
+      "$src"/tests/cli/bad_scenes/*.json ;;
     cloth_spec) ls "$src"/testscenes/*/cloth.json "$src"/testscenes/*/scene.json \
       "$src"/tests/cli/bad_specs/*.json ;;
     obj) ls "$src"/testscenes/*/*.obj "$src"/tests/cli/bad_scenes/meshes/*.obj ;;

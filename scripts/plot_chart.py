@@ -5,7 +5,8 @@ bake-based points a hollow marker joined by a dotted line shows the same
 image's cost with the bake's own seconds added.
 
     /usr/bin/python3 scripts/plot_chart.py POINTS.csv OUT_STEM [--title T]
-writes OUT_STEM.png and OUT_STEM.svg.
+writes OUT_STEM.png and OUT_STEM.svg, and OUT_STEM.md: the same points as a
+Markdown table (docs/results.md quotes it), Pareto points in bold.
 """
 import argparse
 import csv
@@ -30,11 +31,32 @@ def pareto(points):
     return front
 
 
+def write_table(rows, front, path, machine):
+    """The points as a Markdown table in the CSV's order; Pareto points bold."""
+    lines = ["| method | setting | seconds | seconds with bake | rel. RMSE | PSNR (dB) |",
+             "|---|---|---:|---:|---:|---:|"]
+    for i, r in enumerate(rows):
+        secs, with_bake = float(r["seconds"]), float(r["seconds_with_bake"] or r["seconds"])
+        cells = [r["series"], r["label"], f"{secs:.2f}",
+                 f"{with_bake:.1f}" if with_bake > secs * 1.01 else "",
+                 f"{float(r['relative_rmse']):.4f}", f"{float(r['psnr']):.2f}"]
+        if i in front:
+            cells = [f"**{c}**" if c else c for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    if machine and os.path.exists(machine):
+        with open(machine) as f:
+            lines += ["", "Machine and build:", "", "```", f.read().rstrip(), "```"]
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines) + "\n")
+    os.replace(path + ".tmp", path)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("csv")
     ap.add_argument("out_stem")
     ap.add_argument("--title", default="")
+    ap.add_argument("--machine", help="a text file describing the machine, quoted under the table")
     args = ap.parse_args()
     with open(args.csv) as f:
         rows = list(csv.DictReader(f))
@@ -80,7 +102,8 @@ def main():
     for ext in ("png", "svg"):
         fig.savefig(f"{args.out_stem}.{ext}.tmp", format=ext)
         os.replace(f"{args.out_stem}.{ext}.tmp", f"{args.out_stem}.{ext}")
-    print(f"wrote {args.out_stem}.png/.svg; Pareto front: " +
+    write_table(rows, set(front), f"{args.out_stem}.md", args.machine)
+    print(f"wrote {args.out_stem}.png/.svg/.md; Pareto front: " +
           ", ".join(f"{rows[i]['series']} {rows[i]['label']}" for i in front))
 
 

@@ -12,12 +12,14 @@ seam every repeat (and Cycles would build and walk nu x nv volume bounds).
 One grid keeps the repeat periodic, as clothbake's texture is. The cost is
 memory: nu nv times the voxels (6 x 6 x 64 x 64 x 16 = 2.4 M here).
 
-Every voxel is written active (as clothbake does: Blender 3.4 renders a
-constant *tile* as empty). pyopenvdb's copyFromArray prunes a constant 8^3
-block into a tile, so it is given a background of -1 that no voxel has and
-the background is set to 0 afterwards; the script prints how many voxels
-still ended up in tiles (only blocks of one constant value: all-empty blocks,
-density 0, which render the same either way).
+Every voxel is written active and as a leaf voxel (as clothbake does:
+Blender 3.4 renders a constant *tile* as empty). pyopenvdb's copyFromArray
+prunes a constant 8^3 block into a tile: it is given a background of -1 that
+no voxel has (so blocks equal to the background are not dropped) and the
+background is set to 0 afterwards; blocks of one constant value still become
+active tiles (every block of a uniform slab, the empty blocks of a weave),
+and densify() turns each back into a leaf of voxels. The script fails if any
+active voxel is left in a tile.
 
 Usage: tile_volume.py SCENE.json VOLUME_DIR OUT.vdb
 """
@@ -31,6 +33,24 @@ import pyopenvdb as vdb
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "blender"))
 import flat_volume  # noqa: E402
+
+
+def densify(grid, bump):
+    """Replaces every active tile by leaf nodes holding its value.
+
+    OpenVDB leaves an active tile alone when a voxel in it is set to the
+    tile's own value, so one voxel per 8^3 leaf is set to value + bump first
+    (which splits the tile down to a leaf filled with the tile's value) and
+    then back."""
+    acc = grid.getAccessor()
+    tiles = [(t.min, t.max, t.value) for t in grid.iterOnValues() if t.count > 1]
+    for lo, hi, value in tiles:
+        other = bump(value)
+        for i in range(lo[0], hi[0] + 1, 8):
+            for j in range(lo[1], hi[1] + 1, 8):
+                for k in range(lo[2], hi[2] + 1, 8):
+                    acc.setValueOn((i, j, k), other)
+                    acc.setValueOn((i, j, k), value)
 
 
 def main():
@@ -58,10 +78,12 @@ def main():
             t = vdb.Vec3SGrid((-1.0, -1.0, -1.0))
             t.copyFromArray(tiled, ijk=(0, 0, 0), tolerance=(0.0, 0.0, 0.0))
             t.background = (0.0, 0.0, 0.0)
+            densify(t, lambda v: tuple(x + 1.0 for x in v))
         else:
             t = vdb.FloatGrid(-1.0)
             t.copyFromArray(tiled, ijk=(0, 0, 0), tolerance=0.0)
             t.background = 0.0
+            densify(t, lambda v: v + 1.0)
         t.name = g.name
         t.transform = g.transform
         if g.name == "density":
@@ -72,6 +94,8 @@ def main():
         if active != tiled.shape[0] * tiled.shape[1] * tiled.shape[2]:
             sys.exit("tile_volume.py: %s: %d active voxels, expected %d"
                      % (g.name, active, tiled[..., 0].size if a.ndim == 4 else tiled.size))
+        if leaf != active:
+            sys.exit("tile_volume.py: %s: %d active voxels in tiles" % (g.name, active - leaf))
         out_grids.append(t)
     file_meta = dict(file_meta)
     file_meta["clothbake_tiled"] = "%d x %d repeats" % (nu, nv)

@@ -20,7 +20,11 @@ int run_cli(int argc, const char* const* argv, Action action, std::ostream& out,
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e, out, err);
+    // --help and --version succeed; a bad argument is an error like any other
+    // (one line naming the option, exit status 1), not CLI11's own codes.
+    if (e.get_exit_code() == 0) return app.exit(e, out, err);
+    err << "clothbake: error: " << e.what() << "\nRun with --help for more information.\n";
+    return 1;
   } catch (const InputError& e) {
     err << "clothbake: error: " << e.what() << "\n";
     return 1;

@@ -29,6 +29,7 @@ struct BakeArgs {
   std::string scene, out_dir, quads, map = "hemi-octahedral";
   BakeSettings settings;
   int threads = 0;
+  double memory_gib = 0.0;
   bool quiet = false;
 };
 
@@ -61,20 +62,22 @@ void run_bake_command(const BakeArgs& args) {
   const auto threads = limit_threads(args.threads);
   // Step 1: read and check everything, and refuse what cannot fit, before
   // any output exists.
+  io::check_lookup_destination(args.out_dir);
+  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
+                                                : io::default_memory_budget_bytes();
   const Scene scene = io::load_scene(args.scene);
   std::unique_ptr<Renderer> renderer;
   BakePlan plan;
   try {
-    renderer = std::make_unique<Renderer>(scene, io::default_memory_budget_bytes());
+    renderer = std::make_unique<Renderer>(scene, budget);
     plan = plan_bake(*renderer, args.settings);
   } catch (const InputError& e) {
     throw e.field().rfind("--", 0) == 0 ? e : e.in_file(args.scene);
   }
   const uint64_t bytes = io::lookup_bytes(plan.objects);
-  if (bytes > io::default_memory_budget_bytes())
+  if (bytes > budget)
     throw InputError("--texels", "the lookup would need " + mib(bytes) +
-                                     " of memory, over the budget of " +
-                                     mib(io::default_memory_budget_bytes()) +
+                                     " of memory, over the budget of " + mib(budget) +
                                      "; lower --texels or --directions, or use --adaptive");
   const std::filesystem::path out(args.out_dir);
   const std::filesystem::path parent = std::filesystem::absolute(out).parent_path();
@@ -179,6 +182,9 @@ void register_bake_command(CLI::App& app, Action action) {
   cmd->add_option("--quads", args->quads, "bake quads A-B only (inclusive), for merge");
   cmd->add_option("--seed", args->settings.seed, "seed of the sub-texel jitter");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--memory-gib", args->memory_gib,
+                  "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->callback([args, action] {

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
@@ -13,6 +14,7 @@
 #include "cli/thread_limit.h"
 #include "core/baker.h"
 #include "core/error.h"
+#include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/lookup_io.h"
 #include "io/progress.h"
@@ -25,14 +27,31 @@ namespace {
 struct LookupRenderArgs {
   std::string scene, bake_dir, out_exr, out_png;
   int spp = 0, threads = 0;
+  double memory_gib = 0.0;
   long long seed = -1;
   bool quiet = false;
 };
 
+/// The checks of values CLI11 does not make.
+void check_lookup_render_args(const LookupRenderArgs& args) {
+  if (std::filesystem::path(args.out_exr).extension() != ".exr")
+    throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
+}
+
 void run_lookup_render(const LookupRenderArgs& args) {
   const auto threads = limit_threads(args.threads);
+  // Step 1: everything is read and checked before any work or output.
+  io::check_output_folder(args.out_exr, "-o");
+  if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
+  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
+                                                : io::default_memory_budget_bytes();
+  try {
+    check_render_memory(scene.camera, budget);
+  } catch (const InputError& e) {
+    throw e.in_file(args.scene);
+  }
   io::LookupInfo info;
   const std::vector<LookupTable> tables =
       io::read_lookup(args.bake_dir, info, io::scene_fingerprint(scene));
@@ -41,22 +60,42 @@ void run_lookup_render(const LookupRenderArgs& args) {
   if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;
   try {
-    renderer = std::make_unique<Renderer>(scene, io::default_memory_budget_bytes());
+    renderer = std::make_unique<Renderer>(scene, budget);
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }
+  // Step 2: the lookup must be of this scene's meshes and volumes (the scene
+  // hash covers the specs; a volume generator of another version does not).
+  const std::string manifest = args.bake_dir + "/manifest.json";
   if (int(tables.size()) != renderer->object_count())
     throw InputError("objects",
                      "the lookup has " + std::to_string(tables.size()) + " objects, the scene " +
                          std::to_string(renderer->object_count()),
-                     args.bake_dir + "/manifest.json");
+                     manifest);
+  for (int o = 0; o < renderer->object_count(); ++o) {
+    const std::string field = "objects[" + std::to_string(o) + "]";
+    if (tables[o].quad_count() != renderer->quad_count(o))
+      throw InputError(field + ".quads",
+                       "the lookup has " + std::to_string(tables[o].quad_count()) +
+                           " quads, the scene's mesh " + std::to_string(renderer->quad_count(o)) +
+                           "; bake again",
+                       manifest);
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx",
+                  (unsigned long long)renderer->volume(o).content_hash());
+    if (!info.cloth_hashes[o].empty() && info.cloth_hashes[o] != hex)
+      throw InputError(field + ".cloth_hash",
+                       "the lookup was baked from a volume with hash " + info.cloth_hashes[o] +
+                           ", this scene's cloth gives " + hex +
+                           " (another cloth or another clothbake version); bake again",
+                       manifest);
+  }
   std::atomic<uint64_t> misses{0};
   const Renderer::HitShader shader = lookup_shader(*renderer, tables, &misses);
   io::ProgressBar bar("lookup-render", args.quiet);
   const Image image = renderer->render_with(&shader, [&](double f) { bar.update(f); });
   bar.finish();
-  io::write_exr(args.out_exr, image);
-  if (!args.out_png.empty()) io::write_png(args.out_png, image.rgb(), true);
+  io::write_render_images(args.out_exr, args.out_png, image);
   if (misses > 0)
     std::fprintf(stderr,
                  "lookup-render: %llu lookups fell on quads or directions the bake did not "
@@ -79,9 +118,13 @@ void register_lookup_render_command(CLI::App& app, Action action) {
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--memory-gib", args->memory_gib,
+                  "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->callback([args, action] {
+    check_lookup_render_args(*args);
     if (action == Action::Run) run_lookup_render(*args);
   });
 }

@@ -22,6 +22,7 @@ struct MergeArgs {
 };
 
 void run_merge(const MergeArgs& a) {
+  io::check_lookup_destination(a.out_dir);
   io::LookupInfo info;
   const std::vector<LookupTable> tables = io::merge_lookups(a.parts, info);
   // The lights and object names the parts recorded (the scene file is not needed).

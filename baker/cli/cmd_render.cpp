@@ -12,6 +12,7 @@
 #include "cli/thread_limit.h"
 #include "core/error.h"
 #include "core/renderer.h"
+#include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
@@ -27,6 +28,7 @@ struct RenderArgs {
   std::string out_png;
   int spp = 0;
   int threads = 0;
+  double memory_gib = 0.0;
   bool quiet = false;
   bool stats_json = false;
 };
@@ -40,20 +42,25 @@ void check_render_args(const RenderArgs& args) {
 
 void run_render(const RenderArgs& args) {
   const auto threads = limit_threads(args.threads);
-  // Everything is read and checked before any output is written.
+  // Step 1: everything is read and checked before any work or output.
+  io::check_output_folder(args.out_exr, "-o");
+  if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
+  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
+                                                : io::default_memory_budget_bytes();
   std::unique_ptr<Renderer> renderer;
   try {
-    renderer = std::make_unique<Renderer>(scene, io::default_memory_budget_bytes());
+    check_render_memory(scene.camera, budget);
+    renderer = std::make_unique<Renderer>(scene, budget);
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }
+  // Step 2: the render, then both images or neither.
   io::ProgressBar bar("render", args.quiet);
   const Image image = renderer->render([&](double f) { bar.update(f); });
   bar.finish();
-  io::write_exr(args.out_exr, image);
-  if (!args.out_png.empty()) io::write_png(args.out_png, image.rgb(), /*linear=*/true);
+  io::write_render_images(args.out_exr, args.out_png, image);
   const RenderStats& st = renderer->stats();
   if (args.stats_json) {
     const nlohmann::json j = {{"scene", args.scene},
@@ -83,6 +90,9 @@ void register_render_command(CLI::App& app, Action action) {
   cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene)")
       ->check(CLI::Range(1, 65536));
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--memory-gib", args->memory_gib,
+                  "memory budget in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--stats", args->stats_json, "print timing statistics as JSON on stdout");

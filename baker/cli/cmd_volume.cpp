@@ -135,7 +135,7 @@ void register_volume_command(CLI::App& app, Action action) {
   cmd->add_option("input", args->input, "cloth spec or scene JSON")->required();
   cmd->add_option("-o,--out", args->out_dir, "output folder")->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--memory-gib", args->memory_gib,
                   "memory budget for the grid in GiB (default: 3/4 of physical memory)")
       ->check(CLI::NonNegativeNumber);

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/cell_walk.h"
+#include "core/error.h"
 #include "core/random.h"
 #include "core/volume_generator.h"
 #include "core/volume_march.h"
@@ -25,6 +26,22 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
+
+uint64_t render_image_bytes(const PinholeCamera& camera) {
+  return uint64_t(std::max(0, camera.width)) * uint64_t(std::max(0, camera.height)) * 2 * 4 *
+         sizeof(float);
+}
+
+void check_render_memory(const PinholeCamera& camera, uint64_t memory_budget_bytes) {
+  const uint64_t need = render_image_bytes(camera);
+  if (need > memory_budget_bytes)
+    throw InputError("camera.resolution",
+                     std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                         " pixels need an estimated " + std::to_string(need >> 20) +
+                         " MiB for the image and its copy for writing, over the memory budget "
+                         "of " +
+                         std::to_string(memory_budget_bytes >> 20) + " MiB; lower the resolution");
+}
 
 struct Renderer::Object {
   const ClothObject* source = nullptr;
@@ -44,10 +61,13 @@ Renderer::Renderer(const Scene& scene, uint64_t memory_budget_bytes,
     const ClothObject& src = scene.objects[o];
     Object& obj = m_objects[o];
     obj.source = &src;
-    obj.volume = o < volumes.size() && volumes[o]
-                     ? volumes[o]
-                     : std::make_shared<const VolumeTexture>(
-                           generate_volume(src.cloth, memory_budget_bytes));
+    if (o < volumes.size() && volumes[o])
+      obj.volume = volumes[o];
+    else if (src.volume)
+      obj.volume = src.volume;
+    else
+      obj.volume =
+          std::make_shared<const VolumeTexture>(generate_volume(src.cloth, memory_budget_bytes));
     obj.shader = std::make_unique<FiberShader>(rs.fiber_model, src.cloth.shading.fiber_aspect,
                                                src.cloth.shading.exponent, rs.fiber_samples,
                                                hash_key(rs.seed, 0x7461626c65ull, o));

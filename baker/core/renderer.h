@@ -39,6 +39,14 @@ struct TraceResult {
   uint64_t samples = 0;
 };
 
+/// Bytes a render of `camera` holds at its peak: the float RGBA image and the
+/// float copy the EXR writer makes of it (32 bytes per pixel).
+uint64_t render_image_bytes(const PinholeCamera& camera);
+
+/// Refuses, before anything is allocated, a camera whose image would not fit
+/// `memory_budget_bytes`: InputError on "camera.resolution" with the estimate.
+void check_render_memory(const PinholeCamera& camera, uint64_t memory_budget_bytes);
+
 class Renderer {
  public:
   /// Computes what one cloth surface point shows along a ray: by default the
@@ -46,9 +54,10 @@ class Renderer {
   using HitShader = std::function<MarchResult(int object, int quad, float s, float t,
                                               const Imath::V3f& ray_dir_world, Rng& rng)>;
 
-  /// Prepares every object: its volume texture (refused over the memory
+  /// Prepares every object: its volume texture (the object's `volume` if
+  /// set, else generated from its cloth spec and refused over the memory
   /// budget), its fibre shader and its quad patches. `volumes`, if given,
-  /// replaces the generated volume of each object (tests, bakes reusing one).
+  /// replaces the volume of each object (tests, bakes reusing one).
   Renderer(const Scene& scene, uint64_t memory_budget_bytes,
            std::vector<std::shared_ptr<const VolumeTexture>> volumes = {});
   ~Renderer();

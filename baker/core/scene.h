@@ -2,6 +2,7 @@
 /// Everything a render needs, filled by the I/O layer (docs/scene-format.md).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "core/fiber_model.h"
 #include "core/light.h"
 #include "core/quad_mesh.h"
+#include "core/volume_texture.h"
 
 namespace clothbake {
 
@@ -39,7 +41,10 @@ struct RenderSettings {
 struct ClothObject {
   std::string name;
   QuadMesh mesh;
-  ClothSpec cloth;
+  ClothSpec cloth;  ///< generates the texture, unless `volume` is set; always gives the fibre model
+  /// A texture read from a file by the I/O layer (a scene's "volume"); when
+  /// set it replaces the texture generated from `cloth`.
+  std::shared_ptr<const VolumeTexture> volume;
   float repeats_per_uv = 40.0f;   ///< weave repeats per unit of UV, in u and in v
   float thickness_world = 0.01f;  ///< depth of the volume below the surface, world units
   float extinction_per_mm =

@@ -87,7 +87,11 @@ ClothSpec cloth_spec_from_text(const std::string& text, const std::string& path)
   if (!objects.is_array() || objects.empty())
     top.fail("objects", "expected a non-empty array of cloth objects");
   const JsonObject first(objects[0], "objects[0]", path);
-  if (!first.has("cloth")) first.fail("objects[0].cloth", "missing");
+  if (!first.has("cloth"))
+    first.fail("objects[0].cloth",
+               first.has("volume") ? "missing; this object's texture is read from its \"volume\" "
+                                     "VDB, there is no cloth spec to generate from"
+                                   : "missing");
   const auto& cloth = first.raw("cloth");
   if (cloth.is_string()) {
     const std::filesystem::path rel = cloth.get<std::string>();
@@ -99,7 +103,7 @@ ClothSpec cloth_spec_from_text(const std::string& text, const std::string& path)
 }
 
 ClothSpec load_cloth_spec(const std::string& path) {
-  return cloth_spec_from_text(read_text_file(path), path);
+  return cloth_spec_from_text(read_text_file(path, "a JSON file"), path);
 }
 
 ClothSpec load_cloth_spec_file(const std::string& path) {

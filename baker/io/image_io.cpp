@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
+#include <utility>
+#include <vector>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -21,21 +24,22 @@ oiio::ImageBuf to_imagebuf(const Image& image) {
   return buf;
 }
 
-void write_buf(const std::string& path, const oiio::ImageBuf& buf, oiio::TypeDesc type) {
-  write_atomically(path, [&](const std::string& temp) {
-    if (!buf.write(temp, type)) throw InputError("", "cannot write image: " + buf.geterror(), path);
-  });
+/// Writes `buf` to `temp` (a temporary name); errors name `path`, the final one.
+void write_buf_to(const std::string& temp, const std::string& path, const oiio::ImageBuf& buf,
+                  oiio::TypeDesc type) {
+  if (!buf.write(temp, type)) {
+    const std::string why = buf.geterror();  // geterror() clears the message
+    throw InputError("", "cannot write image: " + (why.empty() ? "write error" : why), path);
+  }
 }
-}  // namespace
 
-void write_png(const std::string& path, const Image& image, bool linear) {
+oiio::ImageBuf png_buf(const Image& image, bool linear) {
   oiio::ImageBuf buf = to_imagebuf(image);
   if (linear) buf = oiio::ImageBufAlgo::colorconvert(buf, "linear", "sRGB");
-  buf = oiio::ImageBufAlgo::clamp(buf, 0.0f, 1.0f);
-  write_buf(path, buf, oiio::TypeDesc::UINT8);
+  return oiio::ImageBufAlgo::clamp(buf, 0.0f, 1.0f);
 }
 
-void write_exr(const std::string& path, const Image& image) {
+oiio::ImageBuf exr_buf(const Image& image) {
   oiio::ImageBuf buf = to_imagebuf(image);
   const char* names4[] = {"R", "G", "B", "A"};
   oiio::ImageSpec& spec = buf.specmod();
@@ -46,7 +50,34 @@ void write_exr(const std::string& path, const Image& image) {
   // OpenImageIO would stamp the current time: leave it out so equal images
   // give equal bytes.
   spec.attribute("DateTime", "");
-  write_buf(path, buf, oiio::TypeDesc::FLOAT);
+  return buf;
+}
+}  // namespace
+
+void write_png(const std::string& path, const Image& image, bool linear) {
+  const oiio::ImageBuf buf = png_buf(image, linear);
+  write_atomically(
+      path, [&](const std::string& temp) { write_buf_to(temp, path, buf, oiio::TypeDesc::UINT8); });
+}
+
+void write_exr(const std::string& path, const Image& image) {
+  const oiio::ImageBuf buf = exr_buf(image);
+  write_atomically(
+      path, [&](const std::string& temp) { write_buf_to(temp, path, buf, oiio::TypeDesc::FLOAT); });
+}
+
+void write_render_images(const std::string& exr_path, const std::string& png_path,
+                         const Image& image) {
+  const oiio::ImageBuf exr = exr_buf(image);
+  std::vector<std::pair<std::string, std::function<void(const std::string&)>>> files;
+  files.emplace_back(exr_path, [&](const std::string& temp) {
+    write_buf_to(temp, exr_path, exr, oiio::TypeDesc::FLOAT);
+  });
+  if (!png_path.empty())
+    files.emplace_back(png_path, [&](const std::string& temp) {
+      write_buf_to(temp, png_path, png_buf(image.rgb(), true), oiio::TypeDesc::UINT8);
+    });
+  write_all_atomically(files);
 }
 
 Image color_map(const Image& scalar, const char* map_name, float lo, float hi) {

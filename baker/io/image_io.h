@@ -16,6 +16,12 @@ void write_png(const std::string& path, const Image& image, bool linear);
 /// Writes a float EXR (linear, no transfer curve), channels R,G,B[,A].
 void write_exr(const std::string& path, const Image& image);
 
+/// A render's outputs together: the float EXR and, when `png_path` is not
+/// empty, its sRGB PNG preview (of the RGB channels). Both appear or neither:
+/// a failed write leaves every previous file as it was.
+void write_render_images(const std::string& exr_path, const std::string& png_path,
+                         const Image& image);
+
 /// Maps a single-channel image through a named OpenImageIO colour map
 /// ("inferno", "viridis", "magma", "plasma", "turbo") over [lo, hi] to RGB.
 Image color_map(const Image& scalar, const char* map_name, float lo, float hi);

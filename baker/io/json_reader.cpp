@@ -36,7 +36,7 @@ std::string line_col(const std::string& text, size_t byte) {
 }  // namespace
 
 nlohmann::json read_json_file(const std::string& path) {
-  return parse_json_text(read_text_file(path), path);
+  return parse_json_text(read_text_file(path, "a JSON file"), path);
 }
 
 nlohmann::json parse_json_text(const std::string& text, const std::string& path) {

@@ -2,18 +2,23 @@
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <system_error>
 
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imageio.h>
 
 #include "core/error.h"
 #include "core/random.h"
+#include "io/atomic_file.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 
@@ -211,17 +216,20 @@ void write_side_image(const std::string& path, const LookupTable& t, int side) {
   // No capture date: the same lookup must give the same bytes (merge == whole bake).
   spec.attribute("DateTime", "");
   auto out = oiio::ImageOutput::create(path);
-  if (!out) throw InputError("", "cannot write image: " + oiio::geterror(), path);
+  if (!out) throw InputError("", oiio::geterror(), path);
   if (!out->open(path, spec) || !out->write_image(oiio::TypeDesc::HALF, pixels.data()) ||
-      !out->close())
-    throw InputError("", "cannot write image: " + out->geterror(), path);
+      !out->close()) {
+    const std::string why = out->geterror();  // geterror() clears the message
+    throw InputError("", why.empty() ? "write error" : why, path);
+  }
 }
 
 void write_manifest(const std::string& path, const json& manifest) {
+  errno = 0;
   std::ofstream f(path, std::ios::binary);
   f << manifest.dump(2) << "\n";
   f.close();
-  if (!f) throw InputError("", "cannot write the manifest", path);
+  if (!f) throw InputError("", errno != 0 ? std::strerror(errno) : "write error", path);
 }
 
 // ---------------------------------------------------------------------------
@@ -356,6 +364,8 @@ std::string scene_fingerprint(const Scene& scene) {
     f.add(o.extinction_per_mm);
     f.add(o.isotropic_albedo);
     add_cloth(f, o.cloth);
+    // A texture read from a VDB: its contents, so an edited file is a new scene.
+    if (o.volume) f.add(o.volume->content_hash());
   }
   // Lights: only what the light's type uses.
   f.add(uint64_t(scene.lights.size()));
@@ -380,6 +390,22 @@ std::string scene_fingerprint(const Scene& scene) {
   return hex;
 }
 
+void check_lookup_destination(const std::string& dir) {
+  std::error_code ec;
+  fs::path final_dir(dir);
+  if (!final_dir.has_filename()) final_dir = final_dir.parent_path();  // "out/" -> "out"
+  // The swap renames inside the parent: it must be writable (if it exists yet).
+  const fs::path parent = final_dir.has_parent_path() ? final_dir.parent_path() : fs::path(".");
+  if (fs::is_directory(parent, ec) && ::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw InputError(
+        "", "cannot write in the folder " + parent.string() + ": " + std::strerror(errno), dir);
+  if (!fs::exists(final_dir, ec)) return;
+  if (!fs::is_directory(final_dir, ec)) throw InputError("", "exists and is not a folder", dir);
+  if (!fs::is_empty(final_dir, ec) && !fs::exists(final_dir / k_manifest_name, ec))
+    throw InputError("", "exists and is not a lookup folder (no manifest.json); not replacing it",
+                     dir);
+}
+
 void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables,
                   const LookupInfo& info, const Scene& scene) {
   fs::path final_dir = fs::path(dir);
@@ -392,18 +418,14 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
 
   // Refuse to replace anything but a lookup folder (or an empty one): the
   // swap below deletes the previous contents.
+  check_lookup_destination(dir);
   std::error_code ec;
-  if (fs::exists(final_dir, ec)) {
-    if (!fs::is_directory(final_dir, ec)) throw InputError("", "exists and is not a folder", dir);
-    if (!fs::is_empty(final_dir, ec) && !fs::exists(final_dir / k_manifest_name, ec))
-      throw InputError("", "exists and is not a lookup folder (no manifest.json); not replacing it",
-                       dir);
-  }
 
-  // Step 1: everything into the temporary sibling folder.
+  // Step 1: everything into the temporary sibling folder, the manifest last.
   const int k = tables.empty() ? 0 : tables[0].dirs.k;
   for (size_t o = 0; o < tables.size(); ++o) check_table(tables[o], o, k);
-  fs::remove_all(temp_dir, ec);  // left over by a crashed run with our pid
+  fs::remove_all(temp_dir, ec);                    // left over by a crashed run with our pid
+  UnfinishedOutput unfinished(temp_dir.string());  // removed on a throw or an interrupt
   fs::create_directories(temp_dir, ec);
   if (ec)
     throw InputError(
@@ -414,36 +436,45 @@ void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables
         if (side_has_atlas(tables[o], side))
           write_side_image((temp_dir / image_name(o, side)).string(), tables[o], side);
     write_manifest((temp_dir / k_manifest_name).string(), manifest_json(tables, info, scene));
-  } catch (...) {
-    fs::remove_all(temp_dir, ec);
-    throw;
+  } catch (const InputError& e) {
+    // Name the folder the user asked for, not the temporary one.
+    throw InputError("",
+                     "cannot write " + fs::path(e.file()).filename().string() + ": " + e.message() +
+                         "; nothing under this name was changed",
+                     dir);
   }
 
-  // Step 2: swap it in; the previous folder survives until the new one is in place.
-  const bool had_old = fs::exists(final_dir, ec);
-  if (had_old) {
-    fs::remove_all(old_dir, ec);
-    fs::rename(final_dir, old_dir, ec);
+  // Step 2: swap it in; the previous folder survives until the new one is in
+  // place. Where the file system can, one exchange of the two names (so not
+  // even a kill -9 finds the final name missing); else two renames, between
+  // which an interrupt cannot fall (publish holds the interrupt lock).
+  unfinished.publish([&] {
+    const bool had_old = fs::exists(final_dir, ec);
+    if (had_old && ::renameat2(AT_FDCWD, temp_dir.c_str(), AT_FDCWD, final_dir.c_str(),
+                               RENAME_EXCHANGE) == 0) {
+      fs::remove_all(temp_dir, ec);  // now the previous lookup
+      return;
+    }
+    if (had_old) {
+      fs::remove_all(old_dir, ec);
+      fs::rename(final_dir, old_dir, ec);
+      if (ec) throw InputError("", "cannot move the previous lookup aside: " + ec.message(), dir);
+    }
+    fs::rename(temp_dir, final_dir, ec);
     if (ec) {
       const std::string why = ec.message();
-      fs::remove_all(temp_dir, ec);
-      throw InputError("", "cannot move the previous lookup aside: " + why, dir);
+      if (had_old) fs::rename(old_dir, final_dir, ec);
+      throw InputError("", "cannot move the finished lookup into place: " + why, dir);
     }
-  }
-  fs::rename(temp_dir, final_dir, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    if (had_old) fs::rename(old_dir, final_dir, ec);
-    fs::remove_all(temp_dir, ec);
-    throw InputError("", "cannot move the finished lookup into place: " + why, dir);
-  }
-  if (had_old) fs::remove_all(old_dir, ec);
+    if (had_old) fs::remove_all(old_dir, ec);
+  });
 }
 
 std::vector<LookupTable> read_lookup(const std::string& dir, LookupInfo& info,
                                      const std::string& expected_scene_hash) {
   const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
-  return read_lookup_manifest(read_text_file(manifest_path), dir, info, expected_scene_hash);
+  return read_lookup_manifest(read_text_file(manifest_path, "a JSON file"), dir, info,
+                              expected_scene_hash);
 }
 
 std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
@@ -507,7 +538,9 @@ std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
     const json& sizes = required(obj, "sizes");
     if (!sizes.is_array() || sizes.size() != size_t(quads))
       obj.fail(obj.field("sizes"),
-               "expected an array of " + std::to_string(quads) + " integers (one per quad)");
+               "expected an array of " + std::to_string(quads) + " integers (one per quad), got " +
+                   type_name(sizes) +
+                   (sizes.is_array() ? " of " + std::to_string(sizes.size()) : ""));
     t.sizes = int_array(obj, sizes, obj.field("sizes"), size_t(quads));
     for (int q = 0; q < quads; ++q)
       if (t.sizes[q] < 0 || t.sizes[q] > 65536)
@@ -517,7 +550,9 @@ std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
     const json& baked = required(obj, "baked");
     if (!baked.is_array() || baked.size() != size_t(quads))
       obj.fail(obj.field("baked"),
-               "expected an array of " + std::to_string(quads) + " strings (one per quad)");
+               "expected an array of " + std::to_string(quads) + " strings (one per quad), got " +
+                   type_name(baked) +
+                   (baked.is_array() ? " of " + std::to_string(baked.size()) : ""));
     const int nodes = t.node_count();
     // Every flag string first: quads x nodes is only allocated once the
     // manifest holds that many flags (a short file must not claim gigabytes).
@@ -597,7 +632,7 @@ std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
 
 Scene read_lookup_scene(const std::string& dir) {
   const std::string manifest_path = (fs::path(dir) / k_manifest_name).string();
-  return read_lookup_scene_manifest(read_text_file(manifest_path), dir);
+  return read_lookup_scene_manifest(read_text_file(manifest_path, "a JSON file"), dir);
 }
 
 Scene read_lookup_scene_manifest(const std::string& manifest_text, const std::string& dir) {
@@ -653,11 +688,14 @@ std::vector<LookupTable> merge_lookups(const std::vector<std::string>& dirs, Loo
     LookupInfo part_info;
     std::vector<LookupTable> part = read_lookup(dirs[p], part_info);
     auto differs = [&](const std::string& what, const std::string& detail = {}) {
-      throw InputError("", what + " differs from " + dirs[0] + detail, dirs[p]);
+      throw InputError("",
+                       what + " differs from " + (fs::path(dirs[0]) / k_manifest_name).string() +
+                           detail + "; parts to merge must come from one scene and one bake",
+                       (fs::path(dirs[p]) / k_manifest_name).string());
     };
     if (part_info.scene_hash != first_info.scene_hash)
-      differs("scene_hash", " (" + part_info.scene_hash + " here, " + first_info.scene_hash +
-                                " there): parts of different scenes");
+      differs("scene_hash",
+              " (" + part_info.scene_hash + " here, " + first_info.scene_hash + " there)");
     if (part.size() != merged.size()) differs("the number of objects");
     if (!part.empty() && part[0].dirs.k != merged[0].dirs.k) differs("direction_map.k");
     if (!part.empty() && part[0].dirs.map != merged[0].dirs.map) differs("direction_map.type");

@@ -33,6 +33,10 @@ struct LookupInfo {
 /// as 16 hex digits. A lookup is only valid for a scene with the same hash.
 std::string scene_fingerprint(const Scene& scene);
 
+/// Refuses, before any work, a destination `write_lookup` would refuse: a
+/// file, or a non-empty folder that is not a lookup (it would be replaced).
+void check_lookup_destination(const std::string& dir);
+
 /// Writes the lookup folder atomically: everything goes into a temporary
 /// sibling folder which replaces `dir` only when complete (an existing `dir`
 /// is kept until then). Throws InputError on failure, leaving `dir` as it was.

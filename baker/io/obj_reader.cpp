@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -93,10 +92,7 @@ bool resolve(long index, long count_at_line, long count_total, int& out) {
 }  // namespace
 
 QuadMesh read_obj_quads(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError("", "is a directory, expected an OBJ file", path);
-  return obj_quads_from_text(read_text_file(path), path);
+  return obj_quads_from_text(read_text_file(path, "an OBJ file"), path);
 }
 
 QuadMesh obj_quads_from_text(std::string_view all, const std::string& path) {
@@ -220,6 +216,13 @@ QuadMesh obj_quads_from_text(std::string_view all, const std::string& path) {
     if (area == 0.0 || area < 1e-12 * diag2)
       parser.fail(raw[f].line, "quad has zero area (" + format_number(area) +
                                    " square units); clothbake cannot map a texture onto it");
+    // A collapsed edge leaves a triangle: its patch has a singular side.
+    for (int c = 0; c < 4; ++c)
+      for (int d = c + 1; d < 4; ++d)
+        if (p[c] == p[d])
+          parser.fail(raw[f].line, "corners " + std::to_string(c + 1) + " and " +
+                                       std::to_string(d + 1) +
+                                       " are the same point; a quad needs four distinct corners");
     const Imath::V2d a = t[2] - t[0], b = t[3] - t[1];
     const double uv_area = 0.5 * std::fabs(a.x * b.y - a.y * b.x);
     if (uv_area == 0.0 || uv_area < 1e-12 * uv_diag2)

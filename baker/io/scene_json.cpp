@@ -12,7 +12,9 @@
 #include "io/cloth_spec_json.h"
 #include "io/json_reader.h"
 #include "io/obj_reader.h"
+#include "io/system_info.h"
 #include "io/text_file.h"
+#include "io/vdb_reader.h"
 
 namespace clothbake::io {
 
@@ -191,8 +193,8 @@ RenderSettings read_render(const JsonObject& j) {
 }
 
 ClothObject read_object(const JsonObject& j, const std::string& default_name) {
-  j.allow_only({"name", "mesh", "cloth", "repeats_per_uv", "thickness_world", "extinction_per_mm",
-                "isotropic_albedo"});
+  j.allow_only({"name", "mesh", "cloth", "volume", "repeats_per_uv", "thickness_world",
+                "extinction_per_mm", "isotropic_albedo"});
   ClothObject object;
   object.name = default_name;
   j.read("name", object.name);
@@ -212,10 +214,14 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
     j.fail(j.field("isotropic_albedo"), "must be in [0, 1] in every channel, got " + fmt(a));
 
   // The cloth spec: inline, or a file (whose own errors keep its name).
-  if (!j.has("cloth"))
-    j.fail(j.field("cloth"), "missing (an inline cloth spec or the path of a cloth spec file)");
-  const nlohmann::json& cloth = j.raw("cloth");
-  if (cloth.is_object()) {
+  // Optional with a "volume", which replaces the texture the spec would
+  // generate; the spec (or its defaults) still gives the fibre model.
+  const bool has_volume = j.has("volume");
+  if (!j.has("cloth") && !has_volume)
+    j.fail(j.field("cloth"),
+           "missing (an inline cloth spec or the path of a cloth spec file; or give a \"volume\")");
+  const nlohmann::json cloth = j.has("cloth") ? j.raw("cloth") : nlohmann::json::object();
+  if (cloth.is_object()) {  // without "cloth": {} (the defaults)
     object.cloth = cloth_spec_from_json(JsonObject(cloth, j.field("cloth"), j.file()));
   } else if (cloth.is_string()) {
     const fs::path cloth_path = relative_to(j.file(), cloth.get<std::string>());
@@ -227,6 +233,20 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
   } else {
     j.fail(j.field("cloth"), "expected a cloth spec object or the path of a cloth spec file, got " +
                                  type_name(cloth));
+  }
+
+  // The volume texture, read from a VDB (its own errors keep its name and grid).
+  if (has_volume) {
+    std::string volume_rel;
+    j.read("volume", volume_rel);
+    if (volume_rel.empty()) j.fail(j.field("volume"), "is empty; expected the path of a VDB file");
+    const fs::path volume_path = relative_to(j.file(), volume_rel);
+    try {
+      object.volume = std::make_shared<const VolumeTexture>(
+          read_volume_vdb(volume_path.string(), default_memory_budget_bytes()));
+    } catch (const InputError& e) {
+      j.fail(j.field("volume"), e.what());
+    }
   }
 
   // The mesh.
@@ -298,7 +318,9 @@ void check_camera_outside_cloth(const Scene& scene, const JsonObject& top) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) { return scene_from_text(read_text_file(path), path); }
+Scene load_scene(const std::string& path) {
+  return scene_from_text(read_text_file(path, "a JSON file"), path);
+}
 
 Scene scene_from_text(const std::string& text, const std::string& path) {
   const nlohmann::json doc = parse_json_text(text, path);

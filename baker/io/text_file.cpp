@@ -1,5 +1,7 @@
 #include "io/text_file.h"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -9,10 +11,17 @@
 
 namespace clothbake::io {
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("", "cannot open file (missing or unreadable)", path);
+std::string read_text_file(const std::string& path, const std::string& expected) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError("", "is a folder, expected " + expected, path);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError("",
+                     std::string("cannot open file (missing or unreadable): ") +
+                         (errno != 0 ? std::strerror(errno) : "open failed"),
+                     path);
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError("", "is not a regular file", path);
   std::stringstream ss;

@@ -4,10 +4,11 @@ puts it, with the scene's camera, lights and background.
 
   blender -b --factory-startup --python-exit-code 1 -P volume_render.py -- \
       SCENE.json VOLUME_DIR TILED.vdb LIGHT_UNITS.json OUT_DIR \
-      --samples 1,4,16 [--seed S] [--color albedo|grid] [--voxel-shift 0.5] [--tag volume]
+      --samples 1,4,16 [--seed S[,S2..]] [--color albedo|grid] [--voxel-shift 0.5] \
+      [--step-rate 1] [--interpolation LINEAR|CUBIC] [--tag volume]
 
 Writes OUT_DIR/TAG_sN_seedS.exr (linear RGBA float) per sample count and
-OUT_DIR/TAG_seedS_timing.json: load seconds (scene set-up and loading the
+seed, and per seed OUT_DIR/TAG_seedS_timing.json: load seconds (scene set-up and loading the
 VDB's grids) and, per sample count, the wall seconds of
 bpy.ops.render.render() alone (Cycles' scene sync, volume upload and
 sampling; saving the EXR is excluded) and the CPU seconds (user + system,
@@ -21,13 +22,25 @@ Physics (docs/scene-format.md; clothbake's `isotropic` shading):
   density, scattering = Color x density), anisotropy 0 (isotropic phase).
 - volume_bounces 0: single scattering with shadowed direct light (see
   ../shared/BLENDER_NOTES.md), the same as clothbake's march.
-- Volume precision FULL, step rate 1 (one voxel).
+- Volume precision FULL, step rate 1 (one voxel; --step-rate r: r voxels),
+  trilinear lookup (--interpolation CUBIC: the material's cubic lookup).
 - Lights: Sun strength and point power from the measured LIGHT_UNITS.json
   (scripts/blender/light_units.py): strength = intensity / (irradiance per
   unit strength), power = intensity / (irradiance at 1 unit per watt).
   Both hard (sun angle 0, point radius 0).
-- World: the scene's background for camera rays only (Light Path: Is Camera
-  Ray), not sampled as a light: clothbake's background lights nothing.
+- Density in WORLD space (vol.render.space): with OBJECT space Cycles reads
+  the Density as extinction per *object* unit, here per texture mm, so the
+  per-world value above would be multiplied by the object's scale in mm per
+  world unit (measured on testscenes/slab: OBJECT gave alpha 0.9999 where the
+  slab's exp(-1.8) see-through needs 0.8347; WORLD gives 0.8350).
+- Background: a transparent film (alpha = 1 - transmittance, as clothbake's
+  alpha) with a black world that lights nothing (clothbake's background
+  lights nothing), then composited here as RGB + (1 - alpha) x background,
+  which is what clothbake writes. Why not a world that shows the background
+  to camera rays only (Light Path: Is Camera Ray): a camera ray that has
+  crossed a volume object is no longer a camera ray there, so the background
+  seen through the cloth came out black; and a world shown to every ray
+  lights the volume (measured on the slab: +0.036 on a 0.059 pixel).
 - Camera: pinhole at the scene's position, looking at look_at with its up;
   sensor fit along fov_axis, the field of view fov_deg; pixel filter BOX
   width 1 (clothbake averages over the pixel square); adaptive sampling and
@@ -56,10 +69,24 @@ def cpu_seconds():
     return r.ru_utime + r.ru_stime
 
 
+def composite_background(path, background):
+    """Rewrites the EXR at path (transparent film: premultiplied RGB, alpha
+    = 1 - transmittance) as RGB + (1 - alpha) x background, alpha kept."""
+    import numpy as np
+    import OpenImageIO as oiio
+    buf = oiio.ImageBuf(path)
+    px = buf.get_pixels(oiio.FLOAT)
+    px[..., :3] += (1.0 - px[..., 3:4]) * np.asarray(background, np.float32)
+    spec = oiio.ImageSpec(buf.spec().width, buf.spec().height, 4, oiio.FLOAT)
+    out = oiio.ImageOutput.create(path)
+    if out is None or not out.open(path, spec) or not out.write_image(px) or not out.close():
+        raise SystemExit("cannot rewrite %s: %s" % (path, oiio.geterror()))
+
+
 def parse():
     argv = sys.argv[sys.argv.index("--") + 1:]
     pos, opt = [], {"samples": "1", "seed": "1", "color": "albedo", "voxel-shift": "0.5",
-                    "tag": "volume", "threads": "0"}
+                    "tag": "volume", "threads": "0", "step-rate": "1", "interpolation": "LINEAR"}
     i = 0
     while i < len(argv):
         if argv[i].startswith("--"):
@@ -77,7 +104,7 @@ def main():
     t_start = time.perf_counter()
     (scene_path, vdir, tiled, units_path, out_dir), opt = parse()
     samples = [int(s) for s in opt["samples"].split(",")]
-    seed = int(opt["seed"])
+    seeds = [int(s) for s in opt["seed"].split(",")]
     shift = float(opt["voxel-shift"])
     with open(os.path.join(vdir, "volume.json")) as f:
         vmeta = json.load(f)
@@ -98,7 +125,7 @@ def main():
     for g in vol.grids:
         g.load()
     vol.render.precision = "FULL"
-    vol.render.space = "OBJECT"
+    vol.render.space = "WORLD"  # density per world unit (see the top)
     vol.render.step_size = 0.0
     ob = bpy.data.objects.new("cloth", vol)
     sc.collection.objects.link(ob)
@@ -133,6 +160,7 @@ def main():
         pv.inputs["Color"].default_value = tuple(lay["albedo"]) + (1.0,)
     outn = nt.nodes.new("ShaderNodeOutputMaterial")
     nt.links.new(pv.outputs["Volume"], outn.inputs["Volume"])
+    mat.cycles.volume_interpolation = opt["interpolation"]
     ob.data.materials.append(mat)
 
     # Lights.
@@ -155,18 +183,12 @@ def main():
         ld.color = color
         sc.collection.objects.link(lo)
 
-    # World: background for camera rays only.
-    world = bpy.data.worlds.new("background")
+    # World: black, lights nothing; the background is composited after the
+    # render (see the top).
+    world = bpy.data.worlds.new("black")
     world.use_nodes = True
-    wn = world.node_tree
-    bg = wn.nodes["Background"]
-    lp = wn.nodes.new("ShaderNodeLightPath")
-    mix = wn.nodes.new("ShaderNodeMixRGB")
-    mix.inputs["Color1"].default_value = (0, 0, 0, 1)
-    mix.inputs["Color2"].default_value = tuple(lay["background"]) + (1.0,)
-    wn.links.new(lp.outputs["Is Camera Ray"], mix.inputs["Fac"])
-    wn.links.new(mix.outputs["Color"], bg.inputs["Color"])
-    bg.inputs["Strength"].default_value = 1.0
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
     world.cycles.sampling_method = "NONE"
     sc.world = world
 
@@ -200,7 +222,7 @@ def main():
     r.engine = "CYCLES"
     r.resolution_x, r.resolution_y = res
     r.resolution_percentage = 100
-    r.film_transparent = False
+    r.film_transparent = True
     r.threads_mode = "AUTO" if int(opt["threads"]) <= 0 else "FIXED"
     if int(opt["threads"]) > 0:
         r.threads = int(opt["threads"])
@@ -208,14 +230,13 @@ def main():
     cy.device = "CPU"
     cy.use_adaptive_sampling = False
     cy.use_denoising = False
-    cy.seed = seed
     cy.pixel_filter_type = "BOX"
     cy.filter_width = 1.0
     cy.max_bounces = 1024  # volume_bounces 0 is what limits the paths
     cy.volume_bounces = 0
     cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 0
     cy.transparent_max_bounces = 64
-    cy.volume_step_rate = 1.0
+    cy.volume_step_rate = float(opt["step-rate"])
     cy.volume_max_steps = 1024
     cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
     cy.use_auto_tile = False
@@ -227,22 +248,26 @@ def main():
     load_s = time.perf_counter() - t_start
     os.makedirs(out_dir, exist_ok=True)
     tag = opt["tag"]
-    runs = []
-    for ns in samples:
-        cy.samples = ns
-        c0, t0 = cpu_seconds(), time.perf_counter()
-        bpy.ops.render.render()
-        dt, dc = time.perf_counter() - t0, cpu_seconds() - c0
-        path = os.path.join(out_dir, "%s_s%d_seed%d.exr" % (tag, ns, seed))
-        bpy.data.images["Render Result"].save_render(path)
-        runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
-                     "exr": path})
-        print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
-    info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
-            "density_per_world": lay["extinction_per_world"], "object_matrix": [list(row) for row in m],
-            "runs": runs}
-    with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
-        json.dump(info, f, indent=2)
+    for seed in seeds:
+        cy.seed = seed
+        runs = []
+        for ns in samples:
+            cy.samples = ns
+            c0, t0 = cpu_seconds(), time.perf_counter()
+            bpy.ops.render.render()
+            dt, dc = time.perf_counter() - t0, cpu_seconds() - c0
+            path = os.path.join(out_dir, "%s_s%d_seed%d.exr" % (tag, ns, seed))
+            bpy.data.images["Render Result"].save_render(path)
+            composite_background(path, lay["background"])
+            runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
+                         "exr": path})
+            print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
+        info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
+                "step_rate": cy.volume_step_rate, "interpolation": opt["interpolation"],
+                "density_per_world": lay["extinction_per_world"],
+                "object_matrix": [list(row) for row in m], "runs": runs}
+        with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
+            json.dump(info, f, indent=2)
 
 
 main()

@@ -70,6 +70,13 @@ CASES = [
      "the lookup image is missing"),
     ("hash", lambda m, f: m.update(scene_hash="XYZ"), "scene_hash: must be 16 lowercase hex digits"),
     ("missing key", lambda m, f: m.pop("objects"), "objects: missing key"),
+    ("truncated image", lambda m, f: (f / m["objects"][0]["sides"]["back"]["file"]).write_bytes(
+        (f / m["objects"][0]["sides"]["back"]["file"]).read_bytes()[:-1]),
+     "the lookup image is damaged or truncated"),
+    ("image size", lambda m, f: m["objects"][0]["sides"]["front"].update(
+        size=[m["objects"][0]["sides"]["front"]["size"][0] + 1,
+              m["objects"][0]["sides"]["front"]["size"][1]]),
+     "pixels; the manifest says"),
 ]
 
 
@@ -88,3 +95,13 @@ def test_refuses_invalid_json_and_missing_folder(tmp_path):
         read_manifest(tmp_path)
     with pytest.raises(ClothbakeError, match="no such lookup folder"):
         read_manifest(tmp_path / "nope")
+
+
+def test_refuses_a_folder_without_manifest_and_binary_text(tmp_path):
+    with pytest.raises(ClothbakeError) as err:
+        read_manifest(tmp_path)
+    assert str(err.value) == f"{tmp_path}: no manifest.json in this folder; it is not a " \
+                             "clothbake lookup (bake into it first)"
+    (tmp_path / "manifest.json").write_bytes(b"\xff\xfe{")
+    with pytest.raises(ClothbakeError, match=r"manifest.json: not UTF-8 text \(byte 0\)"):
+        read_manifest(tmp_path)

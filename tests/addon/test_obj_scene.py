@@ -107,6 +107,21 @@ def test_loads_the_paper_scene(source_dir):
     ('"lights": []', "lights: must be a non-empty array"),
     ('"camera": {"fov_axis": "diagonal"}', "camera.fov_axis: must be 'horizontal' or 'vertical'"),
     ('"camera": {"position": [0, 0]}', "camera.position: must be an array of 3 numbers"),
+    ('"render": 5', "render: must be an object"),
+    ('"render": {"spp": "many"}', "render.spp: must be an integer"),
+    ('"render": {"fiber_samples": 0}', "render.fiber_samples: must be in [1, 65536], got 0"),
+    ('"render": {"seed": 4294967296}', "render.seed: must be in [0, 2147483647], got 4294967296"),
+    ('"render": {"shading": "toon"}',
+     'render.shading: unknown value "toon"; expected one of: fiber, isotropic'),
+    ('"render": {"cutoff": "small"}', "render.cutoff: must be a finite number"),
+    ('"objects": [{"name": 3, "mesh": "a.obj", "cloth": {}}]',
+     "objects[0].name: must be a non-empty string"),
+    ('"objects": [{"mesh": "a.obj", "cloth": {}, "isotropic_albedo": 0.5}]',
+     "objects[0].isotropic_albedo: must be an array of 3 numbers"),
+    ('"objects": [{"mesh": "a.obj", "cloth": {"weft": {"color": "red"}}}]',
+     "objects[0].cloth.weft.color: must be an array of 3 numbers"),
+    ('"objects": [{"mesh": "a.obj", "cloth": {}, "volume": "v.vdb"}]',
+     "objects[0].volume: the add-on does not import objects whose texture is read from a VDB"),
 ])
 def test_refuses_bad_scenes(tmp_path, edit, message):
     path = tmp_path / "scene.json"

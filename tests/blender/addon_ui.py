@@ -215,7 +215,7 @@ def main():
     scene.collection.objects.link(tri)
     select(tri)
     tri["clothbake_object_index"] = 0
-    expect_error(bpy.ops.clothbake.apply, ["triangle", "not quads", "3 corners"],
+    expect_error(bpy.ops.clothbake.apply, ["triangle", "not a quad", "3 corners"],
                  "apply to a non-quad mesh")
     check(tri.active_material is None, "failed apply left the mesh alone")
     bpy.data.objects.remove(tri)

@@ -37,4 +37,8 @@ grep -v -E '^ *(Fra:|Saved:|Time:)|^$' "$tmp/blender.log"
 echo "Blender exit status $rc after $(( $(date +%s) - start )) s"
 
 [ "$rc" -eq 0 ] || fail "add-on UI checks failed (exit status $rc; see above)"
+# An operator that raised instead of reporting prints a traceback, whatever it returned.
+if grep -q "Traceback" "$tmp/blender.log"; then
+  fail "Blender printed a Python traceback (see above)"
+fi
 echo "PASS: blender.addon_ui"

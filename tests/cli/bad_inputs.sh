@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Every bad input in DIR/*.json must give: exit status 1, the exact message in
-# DIR/NAME.expect (as "clothbake: error: FILE: ..."), and no output.
+# DIR/NAME.expect (as "clothbake: error: FILE: ..."), and no output (nor a
+# temporary file beside it). The catalogue of other commands' bad inputs is
+# bad_commands.sh.
 #   bad_inputs.sh EXE DIR volume   -> clothbake volume INPUT -o OUT      (no OUT folder)
 #   bad_inputs.sh EXE DIR render   -> clothbake render INPUT -o OUT.exr  (no OUT.exr)
 # Files the inputs refer to (meshes) live in subfolders of DIR.
@@ -34,6 +36,11 @@ check() {  # name, input path, expected substring
   fi
   if [[ -e $out ]]; then
     echo "FAIL $name: output $out was written"; failures=$((failures + 1)); return
+  fi
+  local left
+  left=$(ls -A "$(dirname "$out")" | grep -v -e '^out_' -e '^stdout$' -e '^stderr$')
+  if [[ -n $left ]]; then
+    echo "FAIL $name: left behind: $left"; failures=$((failures + 1)); return
   fi
   echo "ok   $name: $err"
 }

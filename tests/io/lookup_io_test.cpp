@@ -336,18 +336,21 @@ TEST_F(LookupIo, ManifestErrorsNameTheFileAndField) {
   EXPECT_EQ(error_of(dir).rfind(manifest(dir) + " | objects[0].baked[2] | ", 0), 0u)
       << error_of(dir);
 
-  dir = write_whole("square", [](json& m) { m["objects"][0]["sides"]["back"]["squares"][1][2] = 99; });
+  dir = write_whole("square",
+                    [](json& m) { m["objects"][0]["sides"]["back"]["squares"][1][2] = 99; });
   EXPECT_EQ(error_of(dir).rfind(manifest(dir) +
                                     " | objects[0].sides.back.squares[1] | the square and its "
                                     "gutter do not fit in the ",
                                 0),
             0u)
       << error_of(dir);
-  dir = write_whole("square_node", [](json& m) { m["objects"][0]["sides"]["back"]["squares"][0][1] = 3; });
+  dir = write_whole("square_node",
+                    [](json& m) { m["objects"][0]["sides"]["back"]["squares"][0][1] = 3; });
   EXPECT_EQ(error_of(dir), manifest(dir) +
                                " | objects[0].sides.back.squares[0] | node 3 is not a node of "
                                "the back side");
-  dir = write_whole("no_square", [](json& m) { m["objects"][0]["baked"][2] = "000000000000000011"; });
+  dir =
+      write_whole("no_square", [](json& m) { m["objects"][0]["baked"][2] = "000000000000000011"; });
   EXPECT_EQ(error_of(dir), manifest(dir) +
                                " | objects[0].baked[2] | node 16 is marked baked but has no "
                                "square in objects[0].sides.back.squares");
@@ -429,8 +432,9 @@ TEST_F(LookupIo, MergeRefusesPartsOfAnotherScene) {
     (void)merge_lookups({a, b}, merged);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), b);
-    EXPECT_EQ(e.message().rfind("scene_hash differs from " + a, 0), 0u) << e.what();
+    EXPECT_EQ(e.file(), b + "/manifest.json");
+    EXPECT_EQ(e.message().rfind("scene_hash differs from " + a + "/manifest.json", 0), 0u)
+        << e.what();
   }
 
   // Same scene, another layout.
@@ -441,8 +445,10 @@ TEST_F(LookupIo, MergeRefusesPartsOfAnotherScene) {
     (void)merge_lookups({a, b}, merged);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), b);
-    EXPECT_EQ(e.message(), "objects[0].sizes differs from " + a);
+    EXPECT_EQ(e.file(), b + "/manifest.json");
+    EXPECT_EQ(e.message(), "objects[0].sizes differs from " + a +
+                               "/manifest.json; parts to merge must come from one scene and "
+                               "one bake");
   }
 }
 

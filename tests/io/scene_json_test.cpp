@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/volume_generator.h"
 #include "io/cloth_spec_json.h"
+#include "io/vdb_writer.h"
 
 namespace clothbake::io {
 namespace {
@@ -316,13 +318,46 @@ TEST_F(SceneJson, ReferencedFilesAreNamedWithTheSceneField) {
             "objects[0].cloth | " + spec + ": crimp: expected a number, got a string");
   EXPECT_EQ(error_of([](json& s) { s["objects"][0]["cloth"] = "none.json"; }),
             "objects[0].cloth | " + (m_dir / "none.json").string() +
-                ": cannot open file (missing or unreadable)");
+                ": cannot open file (missing or unreadable): No such file or directory");
   EXPECT_EQ(error_of([](json& s) { s["objects"][0]["mesh"] = "missing.obj"; }),
             "objects[0].mesh | mesh file not found: " + (m_dir / "missing.obj").string());
   const std::string tri = write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
   EXPECT_EQ(error_of([](json& s) { s["objects"][0]["mesh"] = "tri.obj"; }),
             "objects[0].mesh | " + tri +
                 ": line 5: face has 3 corners; clothbake needs quads (4 corners)");
+}
+
+TEST_F(SceneJson, VolumeReplacesTheGeneratedTexture) {
+  // A VDB beside the scene: the object's texture, the spec optional.
+  ClothSpec spec;
+  spec.resolution = {8, 8, 4, 1};
+  fs::create_directories(m_dir / "tex");
+  write_volume_vdb((m_dir / "tex" / "volume.vdb").string(),
+                   generate_volume(spec, uint64_t(1) << 30), "test");
+  const std::string path = write("scene.json", R"({
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]},
+    "lights": [{"type": "directional", "direction": [0, 0, -1]}],
+    "objects": [{"mesh": "quad.obj", "volume": "tex/volume.vdb"},
+                {"mesh": "quad.obj", "volume": "tex/volume.vdb",
+                 "cloth": {"shading": {"fiber_aspect": 3}}},
+                {"mesh": "quad.obj", "cloth": {}}]
+  })");
+  const Scene s = load_scene(path);
+  ASSERT_TRUE(s.objects[0].volume && s.objects[1].volume);
+  EXPECT_EQ(s.objects[0].volume->nx(), 8);
+  EXPECT_EQ(s.objects[0].volume->nz(), 4);
+  EXPECT_FLOAT_EQ(s.objects[0].cloth.shading.fiber_aspect, ClothSpec().shading.fiber_aspect);
+  EXPECT_FLOAT_EQ(s.objects[1].cloth.shading.fiber_aspect, 3.0f);
+  EXPECT_FALSE(s.objects[2].volume);
+
+  EXPECT_EQ(error_of([](json& j) { j["objects"][0].erase("cloth"); }),
+            "objects[0].cloth | missing (an inline cloth spec or the path of a cloth spec file; "
+            "or give a \"volume\")");
+  EXPECT_EQ(error_of([](json& j) { j["objects"][0]["volume"] = ""; }),
+            "objects[0].volume | is empty; expected the path of a VDB file");
+  EXPECT_EQ(error_of([](json& j) { j["objects"][0]["volume"] = "none.vdb"; }),
+            "objects[0].volume | " + (m_dir / "none.vdb").string() +
+                ": cannot open file (missing or unreadable)");
 }
 
 TEST_F(SceneJson, RefusesACameraInsideTheClothVolume) {

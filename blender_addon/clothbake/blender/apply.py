@@ -75,16 +75,20 @@ def write_mesh_layers(obj, lookup, lookup_object):
     lookup (face count, non-quads, no UVs) before changing anything."""
     mesh = obj.data
     manifest = os.path.join(lookup.folder, "manifest.json")
+    # Non-quads first: whatever lookup is chosen, such a mesh cannot carry one.
+    bad = [p.index for p in mesh.polygons if p.loop_total != 4]
+    if bad:
+        what = "1 face that is not a quad" if len(bad) == 1 else \
+            f"{len(bad)} faces that are not quads"
+        raise ClothbakeError(f"mesh '{obj.name}' has {what} (first: face {bad[0]}, "
+                             f"{mesh.polygons[bad[0]].loop_total} corners); clothbake needs quads "
+                             "(4 corners)")
     if len(mesh.polygons) != lookup_object.quads:
         raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(mesh.polygons), 'face')}; the "
                              f"lookup's object '{lookup_object.name}' has "
                              f"{_count(lookup_object.quads, 'quad')} "
                              "(was it baked from another mesh?)", manifest,
                              f"objects[{lookup_object.index}].quads")
-    bad = [p.index for p in mesh.polygons if p.loop_total != 4]
-    if bad:
-        raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(bad), 'face')} that are not quads "
-                             f"(first: face {bad[0]}, {mesh.polygons[bad[0]].loop_total} corners)")
     weave = _weave_uv_layer(mesh)
     if weave is None:
         raise ClothbakeError(f"mesh '{obj.name}' has no UV map; the weave follows the UVs")

@@ -42,6 +42,9 @@ def read_cloth_file(path):
             spec = json.load(f)
     except OSError as e:
         raise ClothbakeError(f"cannot read the cloth spec: {e.strerror}", path) from None
+    except UnicodeDecodeError as e:
+        raise ClothbakeError(f"not UTF-8 text (byte {e.start}); a cloth spec is a JSON file",
+                             path) from None
     except json.JSONDecodeError as e:
         raise ClothbakeError(f"invalid JSON: {e.msg}", path, f"line {e.lineno}") from None
     cloth_fields.fields_from_spec(spec, path)  # checks what the fields need

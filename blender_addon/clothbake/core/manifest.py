@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from .directions import HEMI_OCTAHEDRAL, POLAR
 from .errors import ClothbakeError
+from .exr import check_exr
 
 FORMAT = "clothbake-lookup"
 VERSION = 2
@@ -90,11 +91,17 @@ def read_manifest(folder):
     path = os.path.join(folder, "manifest.json")
     if not os.path.isdir(folder):
         raise ClothbakeError("no such lookup folder", folder)
+    if not os.path.lexists(path):
+        raise ClothbakeError("no manifest.json in this folder; it is not a clothbake lookup "
+                             "(bake into it first)", folder)
     try:
         with open(path, encoding="utf-8") as f:
             text = f.read()
     except OSError as e:
         raise ClothbakeError(f"cannot read the manifest: {e.strerror}", path) from None
+    except UnicodeDecodeError as e:
+        raise ClothbakeError(f"not UTF-8 text (byte {e.start}); a manifest is a JSON file",
+                             path) from None
     try:
         root = json.loads(text)
     except json.JSONDecodeError as e:
@@ -202,6 +209,10 @@ def read_manifest(folder):
             file_path = os.path.join(folder, file_name)
             if not os.path.isfile(file_path):
                 raise ClothbakeError("the lookup image is missing", file_path)
+            shape = check_exr(file_path)  # Blender hangs on a truncated EXR
+            if shape is not None and shape != (width, height):
+                raise ClothbakeError(f"the image is {shape[0]} x {shape[1]} pixels; the manifest "
+                                     f"says {width} x {height}", file_path)
             sides[key] = SideAtlas(file_path, width, height, squares)
         for q, flags in enumerate(baked_json):
             for n, flag in enumerate(flags):

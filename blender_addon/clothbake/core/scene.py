@@ -10,6 +10,7 @@ import json
 import math
 import os
 
+from .cloth_fields import fields_from_spec
 from .errors import ClothbakeError
 
 CAMERA_DEFAULTS = {"position": [0.0, 0.0, 5.0], "look_at": [0.0, 0.0, 0.0], "up": [0.0, 1.0, 0.0],
@@ -17,6 +18,13 @@ CAMERA_DEFAULTS = {"position": [0.0, 0.0, 5.0], "look_at": [0.0, 0.0, 0.0], "up"
 OBJECT_DEFAULTS = {"repeats_per_uv": 40.0, "thickness_world": 0.01, "extinction_per_mm": 40.0,
                    "isotropic_albedo": [0.8, 0.8, 0.8]}
 RENDER_DEFAULTS = {"spp": 4}
+FIBER_MODELS = ("ellipsoid", "table", "kajiya-kay")
+TRANSMITTANCES = ("shadow-march", "cached")
+SHADINGS = ("fiber", "isotropic")
+_RENDER_CHOICES = {"fiber_model": FIBER_MODELS, "transmittance": TRANSMITTANCES,
+                   "shading": SHADINGS}
+_MAX_SAMPLES = 65536
+_MAX_SEED = 2**31 - 1  # what a Blender IntProperty holds
 
 # Blender's point light: a lamp of power P watts has radiant intensity
 # P / (4 pi) W/sr in Cycles, measured (scripts/blender/light_units.py: 1 W at
@@ -42,6 +50,31 @@ def _num(value, path, field):
     return float(value)
 
 
+def _render(value, path):
+    """The "render" block, checked as far as the add-on's settings hold it
+    (an enum, an int property): a value they cannot take is refused here,
+    never clamped or left to fail in Blender."""
+    if value is None:
+        return {}
+    if not isinstance(value, dict):
+        raise ClothbakeError("must be an object", path, "render")
+    for key, v in value.items():
+        field = f"render.{key}"
+        if key in _RENDER_CHOICES:
+            if not isinstance(v, str) or v not in _RENDER_CHOICES[key]:
+                raise ClothbakeError(f"unknown value {json.dumps(v)}; expected one of: "
+                                     + ", ".join(_RENDER_CHOICES[key]), path, field)
+        elif key in ("spp", "fiber_samples", "seed"):
+            lo, hi = (0, _MAX_SEED) if key == "seed" else (1, _MAX_SAMPLES)
+            if not isinstance(v, int) or isinstance(v, bool):
+                raise ClothbakeError("must be an integer", path, field)
+            if not lo <= v <= hi:
+                raise ClothbakeError(f"must be in [{lo}, {hi}], got {v}", path, field)
+        elif key in ("step_cells", "cutoff"):
+            _num(v, path, field)
+    return value
+
+
 def load_scene(path):
     """Reads a scene file; returns a plain dict with defaults filled in and
     mesh / cloth paths made absolute. Raises ClothbakeError."""
@@ -51,6 +84,9 @@ def load_scene(path):
             root = json.load(f)
     except OSError as e:
         raise ClothbakeError(f"cannot read the scene: {e.strerror}", path) from None
+    except UnicodeDecodeError as e:
+        raise ClothbakeError(f"not UTF-8 text (byte {e.start}); a scene is a JSON file",
+                             path) from None
     except json.JSONDecodeError as e:
         raise ClothbakeError(f"invalid JSON: {e.msg}", path, f"line {e.lineno}") from None
     if not isinstance(root, dict):
@@ -101,24 +137,39 @@ def load_scene(path):
         obj = dict(OBJECT_DEFAULTS)
         obj.update(oj)
         obj["name"] = oj.get("name", where)
+        if not isinstance(obj["name"], str) or not obj["name"]:
+            raise ClothbakeError("must be a non-empty string", path, where + ".name")
         mesh = oj.get("mesh")
         if not isinstance(mesh, str) or not mesh:
             raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
         obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
+        if "volume" in oj:
+            # The program reads it (docs/scene-format.md); the add-on would
+            # drop it on export and bake the spec's texture instead.
+            raise ClothbakeError("the add-on does not import objects whose texture is read from "
+                                 "a VDB; remove \"volume\" to import the cloth spec", path,
+                                 where + ".volume")
         cloth = oj.get("cloth")
         if isinstance(cloth, str):
             obj["cloth_path"] = os.path.normpath(os.path.join(folder, cloth))
-        elif not isinstance(cloth, dict):
+        elif isinstance(cloth, dict):
+            try:  # an inline spec's errors are named by their full path in the scene
+                fields_from_spec(cloth, path)
+            except ClothbakeError as e:
+                raise ClothbakeError(e.message, path, ".".join(
+                    p for p in (where + ".cloth", e.field) if p)) from None
+        else:
             raise ClothbakeError("must be a cloth spec object or the path of one", path,
                                  where + ".cloth")
         for key in ("repeats_per_uv", "thickness_world", "extinction_per_mm"):
             obj[key] = _num(obj[key], path, f"{where}.{key}")
+        obj["isotropic_albedo"] = _vec(obj["isotropic_albedo"], 3, path,
+                                       where + ".isotropic_albedo")
         objects.append(obj)
 
     background = _vec(root.get("background", [0.0, 0.0, 0.0]), 3, path, "background")
     render = dict(RENDER_DEFAULTS)
-    if isinstance(root.get("render"), dict):
-        render.update(root["render"])
+    render.update(_render(root.get("render"), path))
     return {"path": path, "name": root.get("name", os.path.basename(folder)), "camera": cam,
             "lights": lights, "objects": objects, "background": background, "render": render,
             "json": root}

@@ -17,13 +17,11 @@ import re
 from .cloth_fields import short_float
 from .errors import ClothbakeError
 from .obj import QuadMeshData, format_obj, read_obj
-from .scene import POINT_WATTS_PER_IRRADIANCE, camera_basis, load_scene
+from .scene import (FIBER_MODELS, POINT_WATTS_PER_IRRADIANCE, SHADINGS, TRANSMITTANCES,
+                    camera_basis, load_scene)
 
 RENDER_DEFAULTS = {"spp": 4, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
                    "transmittance": "cached", "shading": "fiber", "cutoff": 0.001, "seed": 1}
-FIBER_MODELS = ("ellipsoid", "table", "kajiya-kay")
-TRANSMITTANCES = ("shadow-march", "cached")
-SHADINGS = ("fiber", "isotropic")
 OBJECT_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
 
 # Relative tolerance under which a number is taken to be the hint's number
