@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/baker.h"
 #include "core/error.h"
@@ -63,8 +64,7 @@ void run_bake_command(const BakeArgs& args) {
   // Step 1: read and check everything, and refuse what cannot fit, before
   // any output exists.
   io::check_lookup_destination(args.out_dir);
-  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
-                                                : io::default_memory_budget_bytes();
+  const uint64_t budget = memory_budget_bytes(args.memory_gib);
   const Scene scene = io::load_scene(args.scene);
   std::unique_ptr<Renderer> renderer;
   BakePlan plan;
@@ -183,9 +183,7 @@ void register_bake_command(CLI::App& app, Action action) {
   cmd->add_option("--seed", args->settings.seed, "seed of the sub-texel jitter");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
-  cmd->add_option("--memory-gib", args->memory_gib,
-                  "memory budget in GiB (default: 3/4 of physical memory)")
-      ->check(CLI::NonNegativeNumber);
+  add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->callback([args, action] {
     BakeArgs checked = *args;

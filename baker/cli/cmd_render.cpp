@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/error.h"
 #include "core/renderer.h"
@@ -47,8 +48,7 @@ void run_render(const RenderArgs& args) {
   if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
   Scene scene = io::load_scene(args.scene);
   if (args.spp > 0) scene.settings.spp = args.spp;
-  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
-                                                : io::default_memory_budget_bytes();
+  const uint64_t budget = memory_budget_bytes(args.memory_gib);
   std::unique_ptr<Renderer> renderer;
   try {
     check_render_memory(scene.camera, budget);
@@ -91,9 +91,7 @@ void register_render_command(CLI::App& app, Action action) {
       ->check(CLI::Range(1, 65536));
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
-  cmd->add_option("--memory-gib", args->memory_gib,
-                  "memory budget in GiB (default: 3/4 of physical memory)")
-      ->check(CLI::NonNegativeNumber);
+  add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--stats", args->stats_json, "print timing statistics as JSON on stdout");
   cmd->callback([args, action] {

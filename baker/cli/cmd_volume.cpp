@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/error.h"
 #include "core/volume_generator.h"
@@ -50,8 +51,7 @@ void run_volume(const VolumeArgs& args) {
   const auto threads = limit_threads(args.threads);
   // Step 1: read and check everything before any output exists.
   const ClothSpec spec = io::load_cloth_spec(args.input);
-  const uint64_t budget = args.memory_gib > 0.0 ? uint64_t(args.memory_gib * (1ull << 30))
-                                                : io::default_memory_budget_bytes();
+  const uint64_t budget = memory_budget_bytes(args.memory_gib);
   const auto t0 = std::chrono::steady_clock::now();
   const VolumeTexture volume = [&] {
     try {
@@ -136,9 +136,7 @@ void register_volume_command(CLI::App& app, Action action) {
   cmd->add_option("-o,--out", args->out_dir, "output folder")->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
-  cmd->add_option("--memory-gib", args->memory_gib,
-                  "memory budget for the grid in GiB (default: 3/4 of physical memory)")
-      ->check(CLI::NonNegativeNumber);
+  add_memory_option(cmd, args->memory_gib);
   cmd->callback([args, action] {
     if (action == Action::Run) run_volume(*args);
   });
