@@ -66,12 +66,14 @@ def main():
             series.append(row["series"])
 
     fig, ax = plt.subplots(figsize=(10, 6.5), dpi=110)
-    cmap = plt.get_cmap("tab10")
+    # tab20's dark shades for the first ten series, its light ones after, so
+    # no two series share a colour.
+    cmap = plt.get_cmap("tab20")
     for k, name in enumerate(series):
         pts = [r for r in rows if r["series"] == name]
         xs = [float(r["seconds"]) for r in pts]
         ys = [float(r["relative_rmse"]) for r in pts]
-        color = cmap(k % 10)
+        color = cmap((2 * k) % 20 if k < 10 else (2 * (k - 10) + 1) % 20)
         ax.plot(xs, ys, MARKERS[k % len(MARKERS)], color=color, label=name, markersize=7,
                 linestyle="-" if len(pts) > 1 else "none", linewidth=0.8)
         for r, x, y in zip(pts, xs, ys):
