@@ -1,7 +1,7 @@
 """Headless Blender 3.4 test of the add-on's error reports (issue 7): every
 refused input, met through the operators as an artist invokes them, ends in
 an ERROR report naming what is wrong and a cancelled operator, never a
-Python traceback (run_addon_errors.sh also fails on any "Traceback" in
+Python traceback (run_addon_script.sh also fails on any "Traceback" in
 Blender's output).
 
     blender -b --factory-startup --python-exit-code 1 -P addon_errors.py -- \
@@ -20,24 +20,12 @@ import os
 import shutil
 import subprocess
 import sys
-import traceback
 
 import addon_utils
 import bpy
 
-argv = sys.argv[sys.argv.index("--") + 1:]
-CLOTHBAKE, SOURCE, TMP = (os.path.abspath(a) for a in argv[:3])
-sys.path.insert(0, os.path.join(SOURCE, "blender_addon"))
-PAPER = os.path.join(SOURCE, "testscenes", "paper", "scene.json")
-SLAB = os.path.join(SOURCE, "testscenes", "slab", "scene.json")
-
-failures = []
-
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, run_checks  # noqa: E402
 
 
 class Reports:
@@ -359,10 +347,4 @@ def main():
     addon_utils.disable("clothbake", default_set=True, handle_error=None)
 
 
-try:
-    main()
-except Exception:  # a crash of the test itself is a failure, with its traceback
-    traceback.print_exc()
-    failures.append("exception")
-print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
-sys.exit(1 if failures else 0)
+run_checks(main)

@@ -8,30 +8,18 @@ program), and a clean unregister.
     blender -b --factory-startup --python-exit-code 1 -P addon_ui.py -- \
         CLOTHBAKE_EXE SOURCE_DIR TMP_DIR
 
-Run by run_addon_ui.sh. Exit status 0 when every check passes.
+Run by run_addon_script.sh addon_ui. Exit status 0 when every check passes.
 """
 import json
 import os
 import subprocess
 import sys
-import traceback
 
 import addon_utils
 import bpy
 
-argv = sys.argv[sys.argv.index("--") + 1:]
-CLOTHBAKE, SOURCE, TMP = (os.path.abspath(a) for a in argv[:3])
-sys.path.insert(0, os.path.join(SOURCE, "blender_addon"))
-PAPER = os.path.join(SOURCE, "testscenes", "paper", "scene.json")
-SLAB = os.path.join(SOURCE, "testscenes", "slab", "scene.json")
-
-failures = []
-
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, run_checks  # noqa: E402
 
 
 def expect_error(op, texts, what, **kwargs):
@@ -244,10 +232,4 @@ def main():
           "unregistered cleanly")
 
 
-try:
-    main()
-except Exception:  # a crash of the test itself is a failure, with its traceback
-    traceback.print_exc()
-    failures.append("exception")
-print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
-sys.exit(1 if failures else 0)
+run_checks(main)

@@ -1,0 +1,34 @@
+"""What the headless add-on checks (addon_ui.py, addon_errors.py) share:
+their arguments (CLOTHBAKE_EXE SOURCE_DIR WORK_DIR after Blender's "--"),
+the add-on on sys.path, the test scenes, and check()/run() that count
+failures and turn them into Blender's exit status. Run by
+run_addon_script.sh."""
+import os
+import sys
+import traceback
+
+argv = sys.argv[sys.argv.index("--") + 1:]
+CLOTHBAKE, SOURCE, TMP = (os.path.abspath(a) for a in argv[:3])
+sys.path.insert(0, os.path.join(SOURCE, "blender_addon"))
+PAPER = os.path.join(SOURCE, "testscenes", "paper", "scene.json")
+SLAB = os.path.join(SOURCE, "testscenes", "slab", "scene.json")
+
+failures = []
+
+
+def check(condition, what):
+    print(("ok   " if condition else "FAIL ") + what, flush=True)
+    if not condition:
+        failures.append(what)
+
+
+def run_checks(main):
+    """Runs main(); a crash of the test itself is a failure, with its
+    traceback. Exits 0 only when every check passed."""
+    try:
+        main()
+    except Exception:
+        traceback.print_exc()
+        failures.append("exception")
+    print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
+    sys.exit(1 if failures else 0)
