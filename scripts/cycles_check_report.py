@@ -34,6 +34,7 @@ darker, saturating at +-25% of clothbake's mean). With --min-psnr (full
 resolution), --min-psnr4 (after 4 x 4 box averaging) or --ratio-range it
 exits 1 (naming each failed bound) when a bound fails.
 """
+import argparse
 import json
 import math
 import os
@@ -108,20 +109,18 @@ def figure(path, name, cb, cy, exposure, diff_scale, title_cb, title_cy):
 
 
 def main():
-    argv = sys.argv[1:]
-    opt = {"figure": None, "min-psnr": None, "min-psnr4": None, "ratio-range": None}
-    pos = []
-    i = 0
-    while i < len(argv):
-        if argv[i].startswith("--"):
-            opt[argv[i][2:]] = argv[i + 1]
-            i += 2
-        else:
-            pos.append(argv[i])
-            i += 1
-    if len(pos) != 6:
-        sys.exit(__doc__)
-    name, clothbake, cb_path, a_path, b_path, out_dir = pos
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    for positional in ("name", "clothbake", "cb_path", "a_path", "b_path", "out_dir"):
+        ap.add_argument(positional)
+    ap.add_argument("--figure")
+    ap.add_argument("--min-psnr")
+    ap.add_argument("--min-psnr4")
+    ap.add_argument("--ratio-range")
+    args = ap.parse_args()
+    opt = {"figure": args.figure, "min-psnr": args.min_psnr, "min-psnr4": args.min_psnr4,
+           "ratio-range": args.ratio_range}
+    name, clothbake, cb_path, a_path, b_path, out_dir = (
+        args.name, args.clothbake, args.cb_path, args.a_path, args.b_path, args.out_dir)
     cb, a, b = read(cb_path), read(a_path), read(b_path)
     if cb.shape[:2] != a.shape[:2] or a.shape != b.shape:
         sys.exit("cycles_check_report.py: image sizes differ: %s %s %s" % (cb.shape, a.shape, b.shape))
