@@ -248,6 +248,7 @@ MarchResult Renderer::shade_surface(int o, int q, float s, float t, const V3f& r
   in.shading = rs.shading;
   in.isotropic_albedo = obj.source->isotropic_albedo;
   in.seed = seed;
+  in.roulette = rs.light_roulette;
   return march_view_ray(in);
 }
 

@@ -36,6 +36,11 @@ struct RenderSettings {
   ShadingMode shading = ShadingMode::Fiber;
   float cutoff = 1e-3f;  ///< stop the view march when transmittance falls below this
   uint64_t seed = 1;
+  /// View transmittance below which a sample's lights are evaluated only at
+  /// random (Russian roulette, volume_march.h); 0 evaluates them always.
+  /// Unbiased; 0.25 renders the paper scene 1.8 x faster for 1.5% more noise
+  /// (docs/renderer.md).
+  float light_roulette = 0.25f;
 };
 
 struct ClothObject {

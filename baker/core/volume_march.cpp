@@ -53,19 +53,33 @@ MarchResult march_view_ray(const MarchInput& in) {
         }
         for (; t_sample < t1; t_sample += in.step_mm) {
           const V3f p_texture = in.entry_texture + in.dir_texture * t_sample;
-          // Step 3a: light reaching the sample from each light.
-          V3f scattered(0.0f);
-          for (size_t l = 0; l < n_lights; ++l) {
-            const MarchLight& light = in.lights[l];
-            const float t_light =
-                light.cache ? TransmittanceCache::transmittance(light.cache->march_then_lookup(
-                                  volume, p_texture, light.to_light_texture, in.extinction_per_mm))
-                            : shadow_transmittance(volume, p_texture, light.to_light_texture,
-                                                   in.extinction_per_mm);
-            if (t_light > 0.0f) scattered += light.irradiance * reflect[l] * t_light;
+          // Step 3a: light reaching the sample from each light. Behind a
+          // view already dimmer than `roulette` the sample adds little, yet
+          // its shadow marches cost as much as anywhere (they are most of a
+          // render's time): they run with probability proportional to the
+          // view transmittance, weighted by its inverse, so the expected
+          // radiance is unchanged.
+          float light_weight = 1.0f;
+          if (transmittance < in.roulette) {
+            const float p = transmittance / in.roulette;
+            light_weight =
+                unit_float(hash_key(in.seed, 0x726f756cull, uint64_t(shaded))) < p ? 1.0f / p : 0.0f;
           }
-          // Step 3b: weighted by the transmittance up to the sample.
-          radiance += scattered * (transmittance * alpha);
+          if (light_weight > 0.0f) {
+            V3f scattered(0.0f);
+            for (size_t l = 0; l < n_lights; ++l) {
+              const MarchLight& light = in.lights[l];
+              const float t_light =
+                  light.cache
+                      ? TransmittanceCache::transmittance(light.cache->march_then_lookup(
+                            volume, p_texture, light.to_light_texture, in.extinction_per_mm))
+                      : shadow_transmittance(volume, p_texture, light.to_light_texture,
+                                             in.extinction_per_mm);
+              if (t_light > 0.0f) scattered += light.irradiance * reflect[l] * t_light;
+            }
+            // Step 3b: weighted by the transmittance up to the sample.
+            radiance += scattered * (transmittance * alpha * light_weight);
+          }
           transmittance *= 1.0f - alpha;
           ++shaded;
           // Step 3c: stop when nothing more can be seen.

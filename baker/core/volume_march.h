@@ -45,7 +45,11 @@ struct MarchInput {
   float jitter = 0.5f;  ///< first sample at jitter * step, jitter in [0, 1)
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
-  uint64_t seed = 0;  ///< for the direct ellipsoid model's jitter
+  uint64_t seed = 0;  ///< for the direct ellipsoid model's jitter and the roulette
+  /// Russian roulette on the light: once the view transmittance in front of a
+  /// sample is below this, its lights are evaluated only with probability
+  /// transmittance / roulette (and then weighted by the inverse). 0: always.
+  float roulette = 0.0f;
 };
 
 struct MarchResult {

@@ -160,7 +160,7 @@ Light read_light(const JsonObject& j) {
 
 RenderSettings read_render(const JsonObject& j) {
   j.allow_only({"spp", "step_cells", "fiber_model", "fiber_samples", "transmittance", "shading",
-                "cutoff", "seed"});
+                "cutoff", "seed", "light_roulette"});
   RenderSettings s;
   j.read("spp", s.spp);
   j.read("step_cells", s.step_cells);
@@ -178,6 +178,7 @@ RenderSettings read_render(const JsonObject& j) {
             s.shading);
   j.read("cutoff", s.cutoff);
   j.read("seed", s.seed);
+  j.read("light_roulette", s.light_roulette);
 
   const std::string max_samples = std::to_string(kMaxSamples);
   if (s.spp < 1 || s.spp > kMaxSamples)
@@ -189,6 +190,8 @@ RenderSettings read_render(const JsonObject& j) {
            "must be in [1, " + max_samples + "], got " + std::to_string(s.fiber_samples));
   if (!(s.cutoff >= 0.0f && s.cutoff < 1.0f))
     j.fail(j.field("cutoff"), "must be in [0, 1), got " + fmt(s.cutoff));
+  if (!(s.light_roulette >= 0.0f && s.light_roulette <= 1.0f))
+    j.fail(j.field("light_roulette"), "must be in [0, 1], got " + fmt(s.light_roulette));
   return s;
 }
 

@@ -42,6 +42,7 @@ Scene slab_scene(float density, float extinction, int layers) {
   scene.settings.shading = ShadingMode::Isotropic;
   scene.settings.step_cells = 0.05f;
   scene.settings.cutoff = 1e-6f;
+  scene.settings.light_roulette = 0.0f;  // exact tests; LightRouletteIsUnbiased tests it
   return scene;
 }
 
@@ -145,6 +146,45 @@ TEST(Renderer, OpaqueDensityGivesAlphaOne) {
   // The 2 x 2 quad fills the 10 degree view from 10 units (1.75 units wide).
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) ASSERT_EQ(img.at(x, y)[3], 1.0f) << x << "," << y;
+}
+
+// Russian roulette on the light (settings.light_roulette) skips most shadow
+// marches behind a dim view but weights the rest so the expectation is
+// unchanged. At its most aggressive (1: every sample's lights at probability
+// = view transmittance), the mean of many rays must still match the analytic
+// slab; the tolerance is 4 standard errors of that mean, measured from the
+// rays themselves, plus the march's own 0.5% bound. With roulette off the
+// same rays have far less spread: the test would see a biased weighting.
+TEST(Renderer, LightRouletteIsUnbiased) {
+  const float density = 0.5f, sigma = 10.0f;
+  Scene scene = slab_scene(density, sigma, 16);
+  scene.settings.step_cells = 0.25f;
+  scene.settings.light_roulette = 1.0f;
+  Light light;
+  light.type = LightType::Directional;
+  light.to_light_world = direction(45, 0);
+  light.intensity = 2.0f;
+  scene.lights = {light};
+  Renderer renderer(scene, k_budget);
+  const V3f to_eye = direction(30, 90);
+  const double tau0 = double(sigma) * density * renderer.volume(0).size_mm().z;
+  const double expected = slab_radiance(scene.objects[0].isotropic_albedo[0], light.intensity,
+                                        tau0, to_eye.z, light.to_light_world.z);
+  const int n = 20000;
+  double sum = 0.0, sum_sq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    // Rays spread over the middle of the quad, away from its edges.
+    const V3f offset(0.8f * float(i % 97) / 97.0f - 0.4f, 0.8f * float(i % 89) / 89.0f - 0.4f, 0);
+    const Ray ray{to_eye * 5.0f + offset, -to_eye};
+    const double r = renderer.trace(ray, hash_key(11, i)).radiance.x;
+    sum += r;
+    sum_sq += r * r;
+  }
+  const double mean = sum / n, variance = sum_sq / n - mean * mean;
+  const double standard_error = std::sqrt(variance / n);
+  EXPECT_GT(standard_error, 1e-4 * expected);  // the roulette does act
+  EXPECT_NEAR(mean, expected, 4.0 * standard_error + 0.005 * expected)
+      << "standard error " << standard_error;
 }
 
 Scene woven_scene() {
