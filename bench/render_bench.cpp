@@ -88,6 +88,16 @@ void BM_ShadowMarch(benchmark::State& state) {
 }
 BENCHMARK(BM_ShadowMarch)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
+// The light roulette (the default, 0.25) against every sample's lights: the
+// same seed, so rel_rmse is the noise the roulette adds.
+void BM_NoLightRoulette(benchmark::State& state) {
+  Scene s = half_res(paper_scene());
+  s.settings.transmittance = TransmittanceMode::ShadowMarch;
+  s.settings.light_roulette = 0.0f;
+  run(state, "no_roulette", s, 2, "shadow");
+}
+BENCHMARK(BM_NoLightRoulette)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
+
 void BM_Cached(benchmark::State& state) {
   Scene s = half_res(paper_scene());
   s.settings.transmittance = TransmittanceMode::Cached;

@@ -106,7 +106,9 @@ def main():
     ref = os.path.join(args.out, f"reference_{args.ref_spp}spp_scale{args.scale}.exr")
     if not os.path.exists(ref):
         log(f"converged reference: {args.ref_spp} spp, step {step / 4}")
-        ref_scene = scene_with("reference", {"step_cells": step / 4})
+        # The plain march (no light roulette): an estimator independent of
+        # the default's.
+        ref_scene = scene_with("reference", {"step_cells": step / 4, "light_roulette": 0.0})
         secs, _ = r.timed([args.exe, "render", ref_scene, "-o", ref, "--spp", str(args.ref_spp),
                            "--quiet"])
         log(f"reference took {secs:.1f} s")
@@ -148,6 +150,7 @@ def main():
                   setting=",".join(f"{k}={v}" for k, v in overrides.items()) + f",spp={n}")
 
     render_series(f"render (step {step}, scene's settings)", {})
+    render_series("render: no light roulette", {"light_roulette": 0.0})
     render_series("render: step 2", {"step_cells": 2.0})
     render_series("render: step 0.125", {"step_cells": 0.125}, spps[:3])
     if not isotropic:
