@@ -44,12 +44,7 @@ import sys
 import numpy as np
 import OpenImageIO as oiio
 
-
-def read(path):
-    buf = oiio.ImageBuf(path)
-    if buf.has_error:
-        sys.exit("cycles_check_report.py: cannot read %s: %s" % (path, buf.geterror()))
-    return buf.get_pixels(oiio.FLOAT).astype(np.float64)
+from report_images import erode, read_float, srgb
 
 
 def write_exr(path, img):
@@ -60,16 +55,6 @@ def write_exr(path, img):
     out.close()
 
 
-def erode(mask, k):
-    out = mask.copy()
-    for dy in range(-k, k + 1):
-        for dx in range(-k, k + 1):
-            out &= np.roll(np.roll(mask, dy, 0), dx, 1)
-    # np.roll wraps: the frame's own border counts as cloth only if the cloth
-    # reaches it on both sides, which is the case in the check scenes.
-    return out
-
-
 def compare(clothbake, ref, test, downsample=1):
     cmd = [clothbake, "compare", ref, test, "--json"]
     if downsample > 1:
@@ -78,11 +63,6 @@ def compare(clothbake, ref, test, downsample=1):
     j = json.loads(out)
     return {k: j[k] for k in ("rmse", "relative_rmse", "psnr", "reference_peak", "reference_mean",
                               "max_error")}
-
-
-def srgb(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
 def figure(path, name, cb, cy, exposure, diff_scale, title_cb, title_cy):
@@ -121,7 +101,7 @@ def main():
            "ratio-range": args.ratio_range}
     name, clothbake, cb_path, a_path, b_path, out_dir = (
         args.name, args.clothbake, args.cb_path, args.a_path, args.b_path, args.out_dir)
-    cb, a, b = read(cb_path), read(a_path), read(b_path)
+    cb, a, b = read_float(cb_path), read_float(a_path), read_float(b_path)
     if cb.shape[:2] != a.shape[:2] or a.shape != b.shape:
         sys.exit("cycles_check_report.py: image sizes differ: %s %s %s" % (cb.shape, a.shape, b.shape))
     cy = 0.5 * (a + b)

@@ -30,16 +30,10 @@ import os
 import sys
 
 import numpy as np
-import OpenImageIO as oiio
+
+from report_images import erode, read_float, srgb
 
 LEVELS = [0.05, 0.03, 0.02, 0.01]
-
-
-def read_rgb(path):
-    buf = oiio.ImageBuf(path)
-    if buf.has_error:
-        sys.exit("cycles_timing_report.py: cannot read %s: %s" % (path, buf.geterror()))
-    return buf.get_pixels(oiio.FLOAT).astype(np.float64)
 
 
 def rel_rmse(test, ref, mask=None):
@@ -75,7 +69,7 @@ def samples_for(level, samples, noise, a, p):
 
 def route(name, runs, ref_img, nref):
     samples = [r["samples"] for r in runs]
-    raw = [rel_rmse(read_rgb(r["exr"]), ref_img) for r in runs]
+    raw = [rel_rmse(read_float(r["exr"]), ref_img) for r in runs]
     corrected = [m / math.sqrt(1.0 + n / nref) for m, n in zip(raw, samples)]
     tail = [i for i, n in enumerate(samples) if n >= 16]
     if len(tail) < 3:
@@ -102,19 +96,6 @@ def route(name, runs, ref_img, nref):
             "cpu_seconds_per_sample": float(c1), "cpu_seconds_fixed": float(c0), "levels": levels}
 
 
-def srgb(x):
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
-
-
-def erode(mask, k):
-    out = mask.copy()
-    for dy in range(-k, k + 1):
-        for dx in range(-k, k + 1):
-            out &= np.roll(np.roll(mask, dy, 0), dx, 1)
-    return out
-
-
 def main():
     if len(sys.argv) != 7:
         sys.exit(__doc__)
@@ -135,7 +116,7 @@ def main():
         vt = json.load(f)
     with open(os.path.join(out, "vol", "volume_seed7_timing.json")) as f:
         vrt = json.load(f)
-    vol_ref = read_rgb(vrt["runs"][0]["exr"])
+    vol_ref = read_float(vrt["runs"][0]["exr"])
     vol = route("volume", vt["runs"], vol_ref, vref)
     vol["load_seconds"] = vt["load_seconds"]
     vol["process_seconds"] = steps["volume_renders"]["seconds"]
@@ -169,7 +150,7 @@ def main():
                       "load_seconds": proc - ht["render_seconds"] - ht.get("write_seconds", 0.0),
                       "exr": os.path.join(out, "bakeroute", tag + ".exr")})
     bake_ref_run = bruns.pop()
-    bake_ref = read_rgb(bake_ref_run["exr"])
+    bake_ref = read_float(bake_ref_run["exr"])
     bake = route("bake", bruns, bake_ref, bref)
     bake["reference"] = {k: bake_ref_run[k] for k in ("samples", "seed", "render_seconds", "cpu_seconds")}
     bake["load_seconds_median"] = float(np.median([r["load_seconds"] for r in bruns]))
@@ -185,9 +166,9 @@ def main():
     # How different the pictures are: the two references, and each against
     # clothbake's own renderer; whole image, cloth interior (clothbake alpha 1,
     # 4 px from any edge), and 4 x 4 box-averaged (less of the noise).
-    cb = read_rgb(os.path.join(out, "clothbake_render.exr"))
+    cb = read_float(os.path.join(out, "clothbake_render.exr"))
     lr_path = os.path.join(out, "lookup_render.exr")
-    lr = read_rgb(lr_path) if os.path.exists(lr_path) else None
+    lr = read_float(lr_path) if os.path.exists(lr_path) else None
     interior = erode(cb[..., 3] > 0.5, 4)
     interior4 = box(interior[..., None].astype(float), 4)[..., 0] > 0.999
     pictures = {}
@@ -238,8 +219,8 @@ def main():
     bshow = bake["runs"][-1]
     near = min(vol["runs"], key=lambda r: abs(math.log(r["render_seconds"] / bshow["render_seconds"])))
     panels = [(vol_ref, "real volume, %d spp: %.0f s" % (vref, vol["reference"]["render_seconds"])),
-              (read_rgb(bshow["exr"]), "from the bake, %d spp: %.1f s" % (bshow["samples"], bshow["render_seconds"])),
-              (read_rgb(near["exr"]), "real volume, %d spp: %.1f s" % (near["samples"], near["render_seconds"]))]
+              (read_float(bshow["exr"]), "from the bake, %d spp: %.1f s" % (bshow["samples"], bshow["render_seconds"])),
+              (read_float(near["exr"]), "real volume, %d spp: %.1f s" % (near["samples"], near["render_seconds"]))]
     h, w = vol_ref.shape[:2]
     fig, axes = plt.subplots(1, 3, figsize=(3 * w / 100, (h + 22) / 100), dpi=100)
     for ax, (img, title) in zip(axes, panels):
