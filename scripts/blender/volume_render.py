@@ -50,6 +50,7 @@ Physics (docs/scene-format.md; clothbake's `isotropic` shading):
   placement (BLENDER_NOTES.md), i.e. half a voxel off clothbake's cell
   centre; s = 0.5 (the default) puts it back.
 """
+import argparse
 import json
 import math
 import os
@@ -84,28 +85,29 @@ def composite_background(path, background):
 
 
 def parse():
-    argv = sys.argv[sys.argv.index("--") + 1:]
-    pos, opt = [], {"samples": "1", "seed": "1", "color": "albedo", "voxel-shift": "0.5",
-                    "tag": "volume", "threads": "0", "step-rate": "1", "interpolation": "LINEAR"}
-    i = 0
-    while i < len(argv):
-        if argv[i].startswith("--"):
-            opt[argv[i][2:]] = argv[i + 1]
-            i += 2
-        else:
-            pos.append(argv[i])
-            i += 1
-    if len(pos) != 5:
-        raise SystemExit("usage: volume_render.py -- SCENE.json VOLUME_DIR TILED.vdb LIGHT_UNITS.json OUT_DIR [options]")
-    return pos, opt
+    ap = argparse.ArgumentParser(prog="volume_render.py", description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    for name in ("scene", "volume_dir", "tiled_vdb", "light_units", "out_dir"):
+        ap.add_argument(name)
+    ap.add_argument("--samples", default="1", help="comma-separated sample counts")
+    ap.add_argument("--seed", default="1", help="comma-separated seeds")
+    ap.add_argument("--color", default="albedo", choices=("albedo", "grid"))
+    ap.add_argument("--voxel-shift", type=float, default=0.5)
+    ap.add_argument("--tag", default="volume")
+    ap.add_argument("--threads", type=int, default=0, help="0: Cycles' own choice")
+    ap.add_argument("--step-rate", type=float, default=1.0)
+    ap.add_argument("--interpolation", default="LINEAR", choices=("LINEAR", "CUBIC"))
+    return ap.parse_args(sys.argv[sys.argv.index("--") + 1:])
 
 
 def main():
     t_start = time.perf_counter()
-    (scene_path, vdir, tiled, units_path, out_dir), opt = parse()
-    samples = [int(s) for s in opt["samples"].split(",")]
-    seeds = [int(s) for s in opt["seed"].split(",")]
-    shift = float(opt["voxel-shift"])
+    opt = parse()
+    scene_path, vdir, tiled, units_path, out_dir = (opt.scene, opt.volume_dir, opt.tiled_vdb,
+                                                    opt.light_units, opt.out_dir)
+    samples = [int(s) for s in opt.samples.split(",")]
+    seeds = [int(s) for s in opt.seed.split(",")]
+    shift = opt.voxel_shift
     with open(os.path.join(vdir, "volume.json")) as f:
         vmeta = json.load(f)
     with open(units_path) as f:
@@ -152,7 +154,7 @@ def main():
     pv.inputs["Absorption Color"].default_value = (0, 0, 0, 1)
     pv.inputs["Emission Strength"].default_value = 0.0
     pv.inputs["Blackbody Intensity"].default_value = 0.0
-    if opt["color"] == "grid":
+    if opt.color == "grid":
         attr = nt.nodes.new("ShaderNodeAttribute")
         attr.attribute_name = "diffuse"
         nt.links.new(attr.outputs["Color"], pv.inputs["Color"])
@@ -160,7 +162,7 @@ def main():
         pv.inputs["Color"].default_value = tuple(lay["albedo"]) + (1.0,)
     outn = nt.nodes.new("ShaderNodeOutputMaterial")
     nt.links.new(pv.outputs["Volume"], outn.inputs["Volume"])
-    mat.cycles.volume_interpolation = opt["interpolation"]
+    mat.cycles.volume_interpolation = opt.interpolation
     ob.data.materials.append(mat)
 
     # Lights.
@@ -223,9 +225,9 @@ def main():
     r.resolution_x, r.resolution_y = res
     r.resolution_percentage = 100
     r.film_transparent = True
-    r.threads_mode = "AUTO" if int(opt["threads"]) <= 0 else "FIXED"
-    if int(opt["threads"]) > 0:
-        r.threads = int(opt["threads"])
+    r.threads_mode = "AUTO" if opt.threads <= 0 else "FIXED"
+    if opt.threads > 0:
+        r.threads = opt.threads
     cy = sc.cycles
     cy.device = "CPU"
     cy.use_adaptive_sampling = False
@@ -236,7 +238,7 @@ def main():
     cy.volume_bounces = 0
     cy.diffuse_bounces = cy.glossy_bounces = cy.transmission_bounces = 0
     cy.transparent_max_bounces = 64
-    cy.volume_step_rate = float(opt["step-rate"])
+    cy.volume_step_rate = opt.step_rate
     cy.volume_max_steps = 1024
     cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
     cy.use_auto_tile = False
@@ -247,7 +249,7 @@ def main():
 
     load_s = time.perf_counter() - t_start
     os.makedirs(out_dir, exist_ok=True)
-    tag = opt["tag"]
+    tag = opt.tag
     for seed in seeds:
         cy.seed = seed
         runs = []
@@ -262,8 +264,8 @@ def main():
             runs.append({"samples": ns, "seed": seed, "render_seconds": dt, "cpu_seconds": dc,
                          "exr": path})
             print("volume_render: %s %d samples, seed %d: %.3f s" % (tag, ns, seed, dt), flush=True)
-        info = {"tag": tag, "load_seconds": load_s, "color": opt["color"], "voxel_shift": shift,
-                "step_rate": cy.volume_step_rate, "interpolation": opt["interpolation"],
+        info = {"tag": tag, "load_seconds": load_s, "color": opt.color, "voxel_shift": shift,
+                "step_rate": cy.volume_step_rate, "interpolation": opt.interpolation,
                 "density_per_world": lay["extinction_per_world"],
                 "object_matrix": [list(row) for row in m], "runs": runs}
         with open(os.path.join(out_dir, "%s_seed%d_timing.json" % (tag, seed)), "w") as f:
