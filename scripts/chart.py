@@ -19,6 +19,7 @@ scene's march step.
 """
 import argparse
 import csv
+import hashlib
 import json
 import os
 import statistics
@@ -162,8 +163,12 @@ def main():
         render_series("render: Kajiya-Kay fibre", {"fiber_model": "kajiya-kay"}, spps[1:3])
 
     # Bakes, then clothbake's lookup-render and Cycles reading them. A bake
-    # folder from an earlier sweep of the same binary and scene is reused
-    # (its seconds were recorded with it).
+    # folder from an earlier sweep of the same binary (by content), scene and
+    # flags is reused (its seconds were recorded with it).
+    with open(args.exe, "rb") as f:
+        exe_sha256 = hashlib.sha256(f.read()).hexdigest()
+    with open(base_scene, "rb") as f:
+        scene_sha256 = hashlib.sha256(f.read()).hexdigest()
     bakes = [("adaptive K8", ["--adaptive", "--directions", "8", "--spp", "2"]),
              ("adaptive K16", ["--adaptive", "--directions", "16", "--spp", "2"]),
              ("adaptive K16 3tpp", ["--adaptive", "--directions", "16", "--spp", "2",
@@ -178,10 +183,12 @@ def main():
         stats_path = os.path.join(args.out, "bake_" + label.replace(" ", "_") + ".json")
         stats = json.load(open(stats_path)) if os.path.exists(stats_path) and \
             os.path.exists(os.path.join(folder, "manifest.json")) else None
-        if stats is None or stats.get("flags") != flags:
+        if stats is None or stats.get("flags") != flags or \
+                stats.get("exe_sha256") != exe_sha256 or stats.get("scene_sha256") != scene_sha256:
             log(f"bake {label}")
             secs, out = r.timed([args.exe, "bake", base_scene, "-o", folder, "--quiet"] + flags)
-            stats = dict(json.loads(out), wall_seconds=secs, flags=flags)
+            stats = dict(json.loads(out), wall_seconds=secs, flags=flags, exe_sha256=exe_sha256,
+                          scene_sha256=scene_sha256)
             with open(stats_path, "w") as f:
                 json.dump(stats, f, indent=2)
         bake_seconds = stats["wall_seconds"]

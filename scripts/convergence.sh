@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Convergence of the reference renderer on a scene: renders at the scene's
-# settings and at 4x and 16x the samples, and a reference with 16x the samples
-# and a quarter of the step; prints seconds and relative RMSE / PSNR of each
-# against the reference (full resolution and 2 x 2 box-averaged).
+# settings and at 4x and 16x the samples, and a reference with 16x the samples,
+# a quarter of the step and no light roulette; prints seconds and relative
+# RMSE / PSNR of each against the reference (full resolution and 2 x 2
+# box-averaged).
 # Usage: scripts/convergence.sh [SCENE.json] [OUT_DIR]
 source "$(dirname "$0")/lib.sh"
 scene=${1:-$CLOTHBAKE_ROOT/testscenes/paper/scene.json}
@@ -17,6 +18,7 @@ import json, sys
 s = json.load(open(sys.argv[1]))
 s.setdefault("render", {})["step_cells"] = float(sys.argv[3]) / 4
 s["render"]["seed"] = 99
+s["render"]["light_roulette"] = 0.0  # the plain march: independent of the default's estimator
 json.dump(s, open(sys.argv[2], "w"), indent=1)
 PY
 trap 'rm -f "$ref_scene"' EXIT
