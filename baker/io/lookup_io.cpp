@@ -384,6 +384,7 @@ std::string scene_fingerprint(const Scene& scene) {
   f.add(int(s.shading));
   f.add(s.cutoff);
   f.add(s.seed);
+  f.add(s.light_roulette);  // changes the bake's bytes (not its expectation), as the seed does
 
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(f.value()));

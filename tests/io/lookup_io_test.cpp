@@ -474,6 +474,8 @@ TEST_F(LookupIo, SceneFingerprintFollowsWhatABakeComputes) {
   EXPECT_TRUE(changed([](Scene& s) { s.objects[0].cloth.draft = {{1, 0}, {0, 1}}; }));
   EXPECT_TRUE(changed([](Scene& s) { s.objects[0].thickness_world = 0.02f; }));
   EXPECT_TRUE(changed([](Scene& s) { s.settings.step_cells = 0.25f; }));
+  // The light roulette changes a bake's bytes (not its expectation), as the seed does.
+  EXPECT_TRUE(changed([](Scene& s) { s.settings.light_roulette = 0.0f; }));
 
   EXPECT_FALSE(changed([](Scene& s) { s.settings.spp = 64; }));
   EXPECT_FALSE(changed([](Scene& s) {
