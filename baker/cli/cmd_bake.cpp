@@ -116,6 +116,7 @@ void run_bake_command(const BakeArgs& args) {
                   (unsigned long long)renderer->volume(o).content_hash());
     info.cloth_hashes.push_back(hex);
     info.quad_counts.push_back(renderer->quad_count(o));
+    info.meshes.push_back(summarize_mesh(scene.objects[size_t(o)].mesh));
   }
   info.settings = args.settings;
   const double work = double(std::max<uint64_t>(1, plan.texel_direction_samples));

@@ -120,20 +120,31 @@ void JsonObject::read(const char* key, std::string& out) const {
   out = v.get<std::string>();
 }
 
-void JsonObject::read(const char* key, Imath::V3f& out) const {
-  if (!has(key)) return;
-  const auto& v = m_value.at(key);
-  if (!v.is_array() || v.size() != 3)
-    fail(field(key), "expected an array of three numbers, got " + type_name(v) +
-                         (v.is_array() ? " of " + std::to_string(v.size()) : ""));
-  for (int c = 0; c < 3; ++c) {
+namespace {
+// A fixed-length array of finite numbers that fit a float.
+template <int N, typename Vec>
+void read_vector(const JsonObject& j, const nlohmann::json& v, const std::string& field, Vec& out) {
+  static const char* const k_count[] = {"", "one", "two", "three"};
+  if (!v.is_array() || v.size() != N)
+    j.fail(field, std::string("expected an array of ") + k_count[N] + " numbers, got " +
+                      type_name(v) + (v.is_array() ? " of " + std::to_string(v.size()) : ""));
+  for (int c = 0; c < N; ++c) {
     if (!v[c].is_number())
-      fail(field(key) + "[" + std::to_string(c) + "]", "expected a number, got " + type_name(v[c]));
+      j.fail(field + "[" + std::to_string(c) + "]", "expected a number, got " + type_name(v[c]));
     const double d = v[c].get<double>();
     if (!std::isfinite(d) || std::fabs(d) > std::numeric_limits<float>::max())
-      fail(field(key) + "[" + std::to_string(c) + "]", "must be a finite number");
+      j.fail(field + "[" + std::to_string(c) + "]", "must be a finite number");
     out[c] = static_cast<float>(d);
   }
+}
+}  // namespace
+
+void JsonObject::read(const char* key, Imath::V3f& out) const {
+  if (has(key)) read_vector<3>(*this, m_value.at(key), field(key), out);
+}
+
+void JsonObject::read(const char* key, Imath::V2f& out) const {
+  if (has(key)) read_vector<2>(*this, m_value.at(key), field(key), out);
 }
 
 void JsonObject::read(const char* key, std::vector<std::vector<int>>& out) const {

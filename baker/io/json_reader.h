@@ -38,6 +38,7 @@ class JsonObject {
   void read(const char* key, uint64_t& out) const;
   void read(const char* key, std::string& out) const;
   void read(const char* key, Imath::V3f& out) const;                     ///< [x, y, z]
+  void read(const char* key, Imath::V2f& out) const;                     ///< [x, y]
   void read(const char* key, std::vector<std::vector<int>>& out) const;  ///< matrix of ints
 
   JsonObject object(const char* key) const;  ///< required nested object

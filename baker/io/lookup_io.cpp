@@ -105,6 +105,34 @@ void add_cloth(Fingerprint& f, const ClothSpec& c) {
 // ---------------------------------------------------------------------------
 // Writing
 
+json vec_json(const Imath::V3f& v) { return json::array({v.x, v.y, v.z}); }
+json vec_json(const Imath::V2f& v) { return json::array({v.x, v.y}); }
+
+json mesh_summary_json(const MeshSummary& m) {
+  return {{"bounds_min", vec_json(m.bounds_min_world)},
+          {"bounds_max", vec_json(m.bounds_max_world)},
+          {"uv_min", vec_json(m.uv_min)},
+          {"uv_max", vec_json(m.uv_max)},
+          {"mean_centre", vec_json(m.mean_centre_world)},
+          {"area", m.area_world}};
+}
+
+MeshSummary read_mesh_summary(const JsonObject& j) {
+  MeshSummary m;
+  for (const char* key : {"bounds_min", "bounds_max", "uv_min", "uv_max", "mean_centre", "area"})
+    if (!j.has(key)) j.fail(j.field(key), "missing");
+  j.read("bounds_min", m.bounds_min_world);
+  j.read("bounds_max", m.bounds_max_world);
+  j.read("uv_min", m.uv_min);
+  j.read("uv_max", m.uv_max);
+  j.read("mean_centre", m.mean_centre_world);
+  float area = 0.0f;
+  j.read("area", area);
+  if (!(area >= 0.0f)) j.fail(j.field("area"), "must be >= 0");
+  m.area_world = area;
+  return m;
+}
+
 json light_json(const Light& l) {
   auto v3 = [](const Imath::V3f& v) { return json::array({v.x, v.y, v.z}); };
   json j;
@@ -156,6 +184,7 @@ json manifest_json(const std::vector<LookupTable>& tables, const LookupInfo& inf
     obj["name"] = o < scene.objects.size() ? scene.objects[o].name : std::string();
     obj["cloth_hash"] = o < info.cloth_hashes.size() ? info.cloth_hashes[o] : std::string();
     obj["quads"] = t.quad_count();
+    if (o < info.meshes.size() && info.meshes[o]) obj["mesh"] = mesh_summary_json(*info.meshes[o]);
     obj["gutter"] = t.gutter;
     obj["sizes"] = t.sizes;
     json baked = json::array();
@@ -625,6 +654,8 @@ std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,
                        obj.field("sides") + "." + k_side_names[t.side_of(n)] + ".squares");
     out.cloth_hashes.push_back(cloth_hash);
     out.quad_counts.push_back(quads);
+    out.meshes.push_back(obj.has("mesh") ? std::optional(read_mesh_summary(obj.object("mesh")))
+                                         : std::nullopt);
     tables.push_back(std::move(t));
   }
   info = std::move(out);

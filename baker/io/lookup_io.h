@@ -5,6 +5,7 @@
 /// node) pairs the bake computed.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 
 #include "core/baker.h"
 #include "core/lookup_table.h"
+#include "core/mesh_summary.h"
 #include "core/scene.h"
 
 namespace clothbake::io {
@@ -24,6 +26,9 @@ struct LookupInfo {
   std::string scene_hash;                 ///< hash of the scene as loaded (scene_fingerprint)
   std::vector<std::string> cloth_hashes;  ///< per object: VolumeTexture::content_hash, hex
   std::vector<int> quad_counts;           ///< per object
+  /// Per object: the mesh it was baked from, summarised (absent in lookups
+  /// written before it was recorded).
+  std::vector<std::optional<MeshSummary>> meshes;
   BakeSettings settings;
   nlohmann::json statistics;  ///< free-form: seconds, savings, ...
 };

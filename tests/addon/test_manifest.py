@@ -73,6 +73,9 @@ CASES = [
     ("truncated image", lambda m, f: (f / m["objects"][0]["sides"]["back"]["file"]).write_bytes(
         (f / m["objects"][0]["sides"]["back"]["file"]).read_bytes()[:-1]),
      "the lookup image is damaged or truncated"),
+    ("mesh area", lambda m, f: m["objects"][0]["mesh"].pop("area"), "objects[0].mesh.area: missing"),
+    ("mesh bounds", lambda m, f: m["objects"][0]["mesh"].update(uv_min=[0]),
+     "objects[0].mesh.uv_min: must be 2 finite numbers"),
     ("image size", lambda m, f: m["objects"][0]["sides"]["front"].update(
         size=[m["objects"][0]["sides"]["front"]["size"][0] + 1,
               m["objects"][0]["sides"]["front"]["size"][1]]),

@@ -11,7 +11,8 @@ Cases (docs/blender-addon.md, "The add-on's errors"):
   a. export / bake / apply on a mesh with a triangle or an n-gon;
   b. apply with a missing bake folder, a folder without manifest.json, a
      malformed manifest, a manifest of another format version;
-  c. apply with a bake of another mesh (quad count, object name);
+  c. apply with a bake of another mesh (quad count, object name, the mesh
+     summary: the slab moved since its bake);
   d. import of a scene with a missing OBJ, a malformed field, a broken OBJ,
      malformed JSON.
 """
@@ -222,6 +223,27 @@ def main():
           "b. no refused apply put a material on")
 
     # -- c. a bake of another mesh -----------------------------------------------
+    # The slab itself, moved since its bake: same name, same quad count, but
+    # the lookup's mesh summary (objects[0].mesh) no longer matches.
+    select(slab)
+    settings.bake_dir = slab_bake
+    slab.location.x += 0.5
+    bpy.context.view_layer.update()
+    r = Reports(bpy.ops.clothbake.apply)
+    check(r.error.startswith(
+        f"Error: slab: {os.path.join(slab_bake, 'manifest.json')}: objects[0].mesh: mesh 'slab' "
+        "is not the mesh the lookup's object 'slab' was baked from: its lower bounds are (") and
+        r.error.endswith("(was it baked from another mesh, or has this one moved since? bake "
+                         "again)") and "Traceback" not in r.error,
+        f"c. apply a bake to its mesh moved since: {r.describe()}")
+    check(slab.active_material is None or not slab.active_material.name.startswith("clothbake"),
+          "c. the refused apply left the moved slab alone")
+    slab.location.x -= 0.5
+    bpy.context.view_layer.update()
+    r = Reports(bpy.ops.clothbake.apply)
+    check(not r.error and slab.active_material is not None and
+          slab.active_material.name.startswith("clothbake"),
+          f"c. the same bake applies once the slab is back: {r.describe()}")
     bpy.ops.clothbake.import_scene(filepath=PAPER)
     cloth = bpy.data.objects["cloth"]
     select(cloth)

@@ -88,6 +88,7 @@ LookupInfo make_info(const Scene& scene) {
   info.scene_hash = scene_fingerprint(scene);
   info.cloth_hashes = {"0123456789abcdef"};
   info.quad_counts = {3};
+  info.meshes = {summarize_mesh(scene.objects[0].mesh)};
   info.settings.directions = kK;
   info.settings.texels = 4;
   info.settings.spp = 2;
@@ -194,6 +195,16 @@ TEST_F(LookupIo, RoundTripKeepsEveryHalfAndField) {
   EXPECT_EQ(back.scene_hash, info.scene_hash);
   EXPECT_EQ(back.cloth_hashes, info.cloth_hashes);
   EXPECT_EQ(back.quad_counts, std::vector<int>{3});
+  ASSERT_EQ(back.meshes.size(), 1u);
+  ASSERT_TRUE(back.meshes[0].has_value());
+  const MeshSummary& got = *back.meshes[0];
+  const MeshSummary& e = *info.meshes[0];
+  EXPECT_EQ(got.bounds_min_world, e.bounds_min_world);
+  EXPECT_EQ(got.bounds_max_world, e.bounds_max_world);
+  EXPECT_EQ(got.uv_min, e.uv_min);
+  EXPECT_EQ(got.uv_max, e.uv_max);
+  EXPECT_EQ(got.mean_centre_world, e.mean_centre_world);
+  EXPECT_NEAR(got.area_world, e.area_world, 1e-6 * e.area_world);  // a float in the file
   EXPECT_EQ(back.settings.directions, kK);
   EXPECT_EQ(back.settings.texels, 4);
   EXPECT_EQ(back.settings.spp, 2);
@@ -450,6 +461,23 @@ TEST_F(LookupIo, MergeRefusesPartsOfAnotherScene) {
                                "/manifest.json; parts to merge must come from one scene and "
                                "one bake");
   }
+}
+
+// Lookups written before objects[o].mesh was recorded have none: still read,
+// with no summary (the add-on then checks the quad count only).
+TEST_F(LookupIo, ManifestWithoutMeshSummaryStillReads) {
+  const Scene scene = make_scene();
+  LookupInfo info = make_info(scene);
+  info.meshes.clear();
+  const std::string dir = (m_dir / "bake").string();
+  write_lookup(dir, {make_table({0, 1, 2})}, info, scene);
+  std::ifstream in(fs::path(dir) / "manifest.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("\"mesh\""), std::string::npos);
+  LookupInfo back;
+  read_lookup(dir, back, info.scene_hash);
+  ASSERT_EQ(back.meshes.size(), 1u);
+  EXPECT_FALSE(back.meshes[0].has_value());
 }
 
 TEST_F(LookupIo, SceneFingerprintFollowsWhatABakeComputes) {

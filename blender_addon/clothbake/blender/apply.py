@@ -31,7 +31,7 @@ import os
 
 import bpy
 
-from ..core import directions
+from ..core import directions, mesh_summary
 from ..core.errors import ClothbakeError
 from ..core.layout import corner_frames, face_attributes, index_pixels
 from ..core.manifest import read_manifest
@@ -94,6 +94,18 @@ def write_mesh_layers(obj, lookup, lookup_object):
         raise ClothbakeError(f"mesh '{obj.name}' has no UV map; the weave follows the UVs")
 
     to_world = obj.matrix_world
+    if lookup_object.mesh is not None:
+        quads = []
+        for poly in mesh.polygons:
+            loops = list(poly.loop_indices)
+            quads.append(([tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
+                           for li in loops], [tuple(weave.data[li].uv) for li in loops]))
+        differs = mesh_summary.difference(lookup_object.mesh, mesh_summary.summarize(quads))
+        if differs:
+            raise ClothbakeError(f"mesh '{obj.name}' is not the mesh the lookup's object "
+                                 f"'{lookup_object.name}' was baked from: {differs} (was it "
+                                 "baked from another mesh, or has this one moved since? bake "
+                                 "again)", manifest, f"objects[{lookup_object.index}].mesh")
     values = {name: [] for name in FACE_ATTRS}
     degenerate = 0
     for poly in mesh.polygons:

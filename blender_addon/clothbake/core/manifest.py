@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from .directions import HEMI_OCTAHEDRAL, POLAR
 from .errors import ClothbakeError
 from .exr import check_exr
+from . import mesh_summary
 
 FORMAT = "clothbake-lookup"
 VERSION = 2
@@ -39,6 +40,7 @@ class LookupObject:
     sizes: list          # per quad: texels per side of its squares, 0 = none
     baked: list          # per quad: string of 2 K^2 '0'/'1'
     sides: dict          # "front"/"back" -> SideAtlas or None
+    mesh: dict = None    # the baked mesh's summary (mesh_summary.py); None in older lookups
 
     def quad_baked(self, quad):
         return "1" in self.baked[quad]
@@ -221,9 +223,10 @@ def read_manifest(folder):
                     raise ClothbakeError(f"node {n} is marked baked but has no square in "
                                          f"{where}sides.{'front' if n < per_side else 'back'}"
                                          ".squares", path, f"{where}baked[{q}]")
+        mesh = mesh_summary.parse(oj.get("mesh"), path, where + "mesh")
         lookup.objects.append(LookupObject(o, name if isinstance(name, str) else "",
                                            str(oj.get("cloth_hash", "")), quads, gutter, sizes,
-                                           list(baked_json), sides))
+                                           list(baked_json), sides, mesh))
     if not lookup.objects:
         raise ClothbakeError("has no objects", path, "objects")
     return lookup
