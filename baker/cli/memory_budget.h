@@ -21,9 +21,8 @@ inline void add_memory_option(CLI::App* cmd, double& memory_gib) {
 }
 
 inline uint64_t memory_budget_bytes(double memory_gib) {
-  return memory_gib > 0.0 && memory_gib <= kMaxMemoryGib
-             ? uint64_t(memory_gib * double(1ull << 30))
-             : io::default_memory_budget_bytes();
+  return memory_gib > 0.0 && memory_gib <= kMaxMemoryGib ? uint64_t(memory_gib * double(1ull << 30))
+                                                         : io::default_memory_budget_bytes();
 }
 
 }  // namespace clothbake::cli

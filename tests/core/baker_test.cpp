@@ -198,7 +198,8 @@ TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
     two = run_bake(renderer, part, s);
   }
   for (int side = 0; side < 2; ++side) {
-    const std::vector<Imath::half>&a = one[0].atlases[side].pixels, &b = two[0].atlases[side].pixels;
+    const std::vector<Imath::half>&a = one[0].atlases[side].pixels,
+          &b = two[0].atlases[side].pixels;
     ASSERT_EQ(a.size(), b.size());
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Imath::half)));
   }

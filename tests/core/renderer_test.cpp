@@ -168,8 +168,8 @@ TEST(Renderer, LightRouletteIsUnbiased) {
   Renderer renderer(scene, k_budget);
   const V3f to_eye = direction(30, 90);
   const double tau0 = double(sigma) * density * renderer.volume(0).size_mm().z;
-  const double expected = slab_radiance(scene.objects[0].isotropic_albedo[0], light.intensity,
-                                        tau0, to_eye.z, light.to_light_world.z);
+  const double expected = slab_radiance(scene.objects[0].isotropic_albedo[0], light.intensity, tau0,
+                                        to_eye.z, light.to_light_world.z);
   const int n = 20000;
   double sum = 0.0, sum_sq = 0.0;
   for (int i = 0; i < n; ++i) {

@@ -14,10 +14,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -200,8 +200,8 @@ Scene woven_scene(int layers = 8) {
 void place_camera(Scene& scene, double theta_deg, double phi_deg) {
   scene.camera.position_world = direction(theta_deg, phi_deg) * 10.0f;
   scene.camera.look_at_world = V3f(0, 0, 0);
-  scene.camera.up_world = std::fabs(std::cos(theta_deg * k_pi / 180.0)) > 0.7 ? V3f(0, 1, 0)
-                                                                               : V3f(0, 0, 1);
+  scene.camera.up_world =
+      std::fabs(std::cos(theta_deg * k_pi / 180.0)) > 0.7 ? V3f(0, 1, 0) : V3f(0, 0, 1);
 }
 
 /// Single scattering from a homogeneous slab of optical depth tau0, isotropic
@@ -481,10 +481,10 @@ TEST(Stability, MarchGrazingAndBelowHorizonMatchesTheSlab) {
   struct Case {
     double view_theta, light_theta;
   };
-  const Case cases[] = {
-      {80, 45},   {89, 45},   {89.9, 45},  {30, 80},    {30, 89},     {30, 89.9},  {89.9, 89.9},
-      {30, 100},  {30, 91},   {30, 90.1},  {80, 135},   {89.9, 100},  {100, 45},   {91, 45},
-      {90.1, 45}, {135, 100}, {100, 90.1}, {180, 135},  {30, 90},     {90, 45}};
+  const Case cases[] = {{80, 45},   {89, 45},     {89.9, 45}, {30, 80}, {30, 89},
+                        {30, 89.9}, {89.9, 89.9}, {30, 100},  {30, 91}, {30, 90.1},
+                        {80, 135},  {89.9, 100},  {100, 45},  {91, 45}, {90.1, 45},
+                        {135, 100}, {100, 90.1},  {180, 135}, {30, 90}, {90, 45}};
   for (TransmittanceMode mode : {TransmittanceMode::ShadowMarch, TransmittanceMode::Cached}) {
     double worst = 0.0, worst_sigmas = 0.0;
     for (const Case c : cases) {
@@ -499,8 +499,8 @@ TEST(Stability, MarchGrazingAndBelowHorizonMatchesTheSlab) {
       const double tau0 = double(sigma) * density * r.volume(0).size_mm().z;
       const bool behind = to_eye.z < 0.0f;
       const double mu_v = behind ? -to_eye.z : to_eye.z;
-      const double mu_l = behind ? -scene.lights[0].to_light_world.z
-                                 : scene.lights[0].to_light_world.z;
+      const double mu_l =
+          behind ? -scene.lights[0].to_light_world.z : scene.lights[0].to_light_world.z;
       char what[96];
       std::snprintf(what, sizeof what, "%s view %g light %g", mode_name(mode), c.view_theta,
                     c.light_theta);
@@ -520,23 +520,24 @@ TEST(Stability, MarchGrazingAndBelowHorizonMatchesTheSlab) {
         EXPECT_LE(m.radiance[ch], radiance_bound(r, scene)) << what;
         if (expected > 1e-4) rel = std::max(rel, std::fabs(m.radiance[ch] / expected - 1.0));
         if (m.radiance_se[ch] > 0)
-          worst_sigmas = std::max(worst_sigmas,
-                                  std::fabs(m.radiance[ch] - expected) / m.radiance_se[ch]);
+          worst_sigmas =
+              std::max(worst_sigmas, std::fabs(m.radiance[ch] - expected) / m.radiance_se[ch]);
       }
       worst = std::max(worst, rel);
       const double see = std::exp(-tau0 / mu_v);
       EXPECT_NEAR(m.transmittance, see, 0.005 * see + 4.0 * m.transmittance_se + 1e-6) << what;
-      std::printf("[stability] slab %s view %5.1f light %5.1f: radiance R %.6f +- %.1e expected "
-                  "%.6f (rel err %.3f), see-through %.3g expected %.3g\n",
-                  mode_name(mode), c.view_theta, c.light_theta, m.radiance.x, m.radiance_se[0],
-                  slab_radiance(0.8, 2.0, tau0, mu_v, mu_l), rel, m.transmittance, see);
+      std::printf(
+          "[stability] slab %s view %5.1f light %5.1f: radiance R %.6f +- %.1e expected "
+          "%.6f (rel err %.3f), see-through %.3g expected %.3g\n",
+          mode_name(mode), c.view_theta, c.light_theta, m.radiance.x, m.radiance_se[0],
+          slab_radiance(0.8, 2.0, tau0, mu_v, mu_l), rel, m.transmittance, see);
     }
-    std::printf("[stability] slab %s grazing/below-horizon: worst relative error %.2e (cases "
-                "with radiance > 1e-4)\n",
-                mode_name(mode), worst);
+    std::printf(
+        "[stability] slab %s grazing/below-horizon: worst relative error %.2e (cases "
+        "with radiance > 1e-4)\n",
+        mode_name(mode), worst);
   }
 }
-
 
 /// The woven cloth rendered from grazing cameras in front and behind, lit
 /// from the front, from behind (back-lit) and at a grazing angle, in both
@@ -575,13 +576,13 @@ TEST(Stability, RendererWovenGrazingBackLitAndBackFaces) {
         mean_cached += img[1].pixels[i];
       }
       const double pixels = double(img[0].pixels.size() / 4);
-      std::printf("[stability] woven %s camera %5.1f: NaN %lld Inf %lld, max radiance %.4f (bound "
-                  "%.3f), alpha [%.3f, %.3f], coverage %.3f, mean R %.5f; cached: mean R %.5f, "
-                  "rel. RMSE vs shadow-march %.3f\n",
-                  lit.name, cam, (long long)(a.rgb.nan + a.alpha.nan),
-                  (long long)(a.rgb.inf + a.alpha.inf), a.rgb.max, bound, a.alpha.min, a.alpha.max,
-                  coverage / pixels, mean / pixels, mean_cached / pixels,
-                  relative_rmse(img[1], img[0]));
+      std::printf(
+          "[stability] woven %s camera %5.1f: NaN %lld Inf %lld, max radiance %.4f (bound "
+          "%.3f), alpha [%.3f, %.3f], coverage %.3f, mean R %.5f; cached: mean R %.5f, "
+          "rel. RMSE vs shadow-march %.3f\n",
+          lit.name, cam, (long long)(a.rgb.nan + a.alpha.nan), (long long)(a.rgb.inf + a.alpha.inf),
+          a.rgb.max, bound, a.alpha.min, a.alpha.max, coverage / pixels, mean / pixels,
+          mean_cached / pixels, relative_rmse(img[1], img[0]));
       // The cloth covers part of every view but the grazing ones, and a
       // back-lit cloth still shows light through it. Grazing light seen from
       // behind is not asked to show: what crosses the whole cloth at 89.9
@@ -605,11 +606,13 @@ TEST(Stability, RendererWovenGrazingBackLitAndBackFaces) {
   const Image converged = conv.render();
   expect_sane(audit(converged), radiance_bound(conv, scene), "converged back-lit");
   double mq = 0.0, mc = 0.0;
-  for (size_t i = 0; i < quick.pixels.size(); i += 4) mq += quick.pixels[i], mc += converged.pixels[i];
-  std::printf("[stability] woven back-lit camera 30: 2 spp step 0.5 vs 32 spp step 0.25: rel. "
-              "RMSE %.3f, mean R %.5f vs %.5f\n",
-              relative_rmse(quick, converged), mq / (quick.pixels.size() / 4),
-              mc / (quick.pixels.size() / 4));
+  for (size_t i = 0; i < quick.pixels.size(); i += 4)
+    mq += quick.pixels[i], mc += converged.pixels[i];
+  std::printf(
+      "[stability] woven back-lit camera 30: 2 spp step 0.5 vs 32 spp step 0.25: rel. "
+      "RMSE %.3f, mean R %.5f vs %.5f\n",
+      relative_rmse(quick, converged), mq / (quick.pixels.size() / 4),
+      mc / (quick.pixels.size() / 4));
 }
 
 /// Exact limits: an empty volume (zero density, or zero extinction) shows the
@@ -644,8 +647,9 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
           }
         EXPECT_EQ(off, 0) << mode_name(mode) << " empty kind " << empty_kind << " camera " << cam;
       }
-  std::printf("[stability] empty volume (zero density / zero extinction), both modes, cameras "
-              "0/80/100 deg: every pixel exactly the background, alpha exactly 0\n");
+  std::printf(
+      "[stability] empty volume (zero density / zero extinction), both modes, cameras "
+      "0/80/100 deg: every pixel exactly the background, alpha exactly 0\n");
 
   // Opaque: alpha exactly 1 where the quad covers (it fills the view).
   for (TransmittanceMode mode : {TransmittanceMode::ShadowMarch, TransmittanceMode::Cached})
@@ -678,9 +682,10 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
     const double tau0 = sigma * r.volume(0).size_mm().z;
     const double limit = slab_radiance(0.8, 2.0, tau0, mu_v, mu_l);
     const double dt = 0.5 * r.volume(0).cell_size_mm().z;
-    std::printf("[stability] opaque slab sigma %8.0f (sigma rho dt %.3g): radiance R %.5f vs "
-                "closed form %.5f (ratio %.3f), see-through %.3g\n",
-                sigma, sigma * dt, m.radiance.x, limit, m.radiance.x / limit, m.transmittance);
+    std::printf(
+        "[stability] opaque slab sigma %8.0f (sigma rho dt %.3g): radiance R %.5f vs "
+        "closed form %.5f (ratio %.3f), see-through %.3g\n",
+        sigma, sigma * dt, m.radiance.x, limit, m.radiance.x / limit, m.transmittance);
   }
 
   // The lookup path: a bake of an empty and of an opaque slab.
@@ -705,8 +710,8 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
           if (opaque) {
             wrong_texels += float(px[3]) != 1.0f;
           } else {
-            wrong_texels += float(px[0]) != 0.0f || float(px[1]) != 0.0f ||
-                            float(px[2]) != 0.0f || float(px[3]) != 0.0f;
+            wrong_texels += float(px[0]) != 0.0f || float(px[1]) != 0.0f || float(px[2]) != 0.0f ||
+                            float(px[3]) != 0.0f;
           }
         }
     EXPECT_EQ(wrong_texels, 0) << (opaque ? "opaque" : "empty");
@@ -724,8 +729,9 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
       EXPECT_EQ(float(a.rgb.max), 0.4f);
     }
   }
-  std::printf("[stability] lookup path: empty bake texels exactly 0, lookup-render exactly the "
-              "background; opaque bake alpha texels exactly 1, lookup-render alpha 1\n");
+  std::printf(
+      "[stability] lookup path: empty bake texels exactly 0, lookup-render exactly the "
+      "background; opaque bake alpha texels exactly 1, lookup-render alpha 1\n");
 }
 
 /// A volume one cell thick: the slab against its closed form (both modes)
@@ -773,9 +779,10 @@ TEST(Stability, OneLayerVolume) {
     expect_sane(a, radiance_bound(r, scene), std::string("one-layer woven ") + mode_name(mode));
     EXPECT_GT(a.rgb.max, 0.0);
   }
-  std::printf("[stability] one-layer woven cloth: finite, bounded; cached vs shadow-march rel. "
-              "RMSE %.3f\n",
-              relative_rmse(img[1], img[0]));
+  std::printf(
+      "[stability] one-layer woven cloth: finite, bounded; cached vs shadow-march rel. "
+      "RMSE %.3f\n",
+      relative_rmse(img[1], img[0]));
 }
 
 /// March steps much longer than a cell (4 and 16 cells) against 0.25 cell.
@@ -805,11 +812,12 @@ TEST(Stability, LongMarchSteps) {
         expected = slab_radiance(0.8, 2.0, tau0, to_eye.z, scene.lights[0].to_light_world.z);
         see_expected = std::exp(-tau0 / to_eye.z);
       }
-      std::printf("[stability] long steps slab %s view %4.1f: radiance R step 0.25 %.5f, 4 %.5f "
-                  "(%+.1f%%), 16 %.5f (%+.1f%%), closed form %.5f; see-through %.4f / %.4f / %.4f, "
-                  "closed form %.4f\n",
-                  mode_name(mode), view, rad[0], rad[1], 100 * (rad[1] / rad[0] - 1), rad[2],
-                  100 * (rad[2] / rad[0] - 1), expected, see[0], see[1], see[2], see_expected);
+      std::printf(
+          "[stability] long steps slab %s view %4.1f: radiance R step 0.25 %.5f, 4 %.5f "
+          "(%+.1f%%), 16 %.5f (%+.1f%%), closed form %.5f; see-through %.4f / %.4f / %.4f, "
+          "closed form %.4f\n",
+          mode_name(mode), view, rad[0], rad[1], 100 * (rad[1] / rad[0] - 1), rad[2],
+          100 * (rad[2] / rad[0] - 1), expected, see[0], see[1], see[2], see_expected);
     }
   // The woven cloth: bounded at every step; error against step 0.25.
   for (TransmittanceMode mode : {TransmittanceMode::ShadowMarch, TransmittanceMode::Cached}) {
@@ -827,10 +835,11 @@ TEST(Stability, LongMarchSteps) {
     double alpha[3] = {0, 0, 0};
     for (int si = 0; si < 3; ++si)
       for (size_t i = 3; i < img[si].pixels.size(); i += 4) alpha[si] += img[si].pixels[i];
-    std::printf("[stability] long steps woven %s: rel. RMSE vs step 0.25: step 4 %.3f, step 16 "
-                "%.3f; summed alpha %.1f / %.1f / %.1f\n",
-                mode_name(mode), relative_rmse(img[1], img[0]), relative_rmse(img[2], img[0]),
-                alpha[0], alpha[1], alpha[2]);
+    std::printf(
+        "[stability] long steps woven %s: rel. RMSE vs step 0.25: step 4 %.3f, step 16 "
+        "%.3f; summed alpha %.1f / %.1f / %.1f\n",
+        mode_name(mode), relative_rmse(img[1], img[0]), relative_rmse(img[2], img[0]), alpha[0],
+        alpha[1], alpha[2]);
   }
 }
 
@@ -893,8 +902,8 @@ PatchReport probe_patch(const QuadPatch& patch, uint64_t seed) {
     if (std::fabs(hit.t_world - 2 * size) < 1e-3 * size)
       rep.aim = std::max(rep.aim, double(std::hypot(hit.s - s, hit.t - t)));
     const SurfaceFrame f = patch.frame(hit.s, hit.t);
-    const V3f vs[6] = {f.tangent_world,  f.bitangent_world, f.normal_world,
-                       f.mm_per_world,   V3f(0),            V3f(0)};
+    const V3f vs[6] = {f.tangent_world, f.bitangent_world, f.normal_world, f.mm_per_world, V3f(0),
+                       V3f(0)};
     for (const V3f& v : vs)
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) ++rep.non_finite;
     rep.ortho = std::max({rep.ortho, std::fabs(f.tangent_world.length() - 1.0),
@@ -908,8 +917,8 @@ PatchReport probe_patch(const QuadPatch& patch, uint64_t seed) {
 }
 
 /// Render a woven cloth on `mesh` from overhead-ish; sanity of the image.
-ImageAudit render_mesh(const QuadMesh& mesh, double cam_theta, Image* out = nullptr,
-                       int size = 16, int spp = 2) {
+ImageAudit render_mesh(const QuadMesh& mesh, double cam_theta, Image* out = nullptr, int size = 16,
+                       int spp = 2) {
   Scene scene = woven_scene(4);
   scene.objects[0].mesh = mesh;
   scene.settings.spp = spp;
@@ -953,15 +962,15 @@ TEST(Stability, TwistedQuads) {
     QuadMesh centred = mesh;
     for (V3f& p : centred.positions_world) p = (p - V3f(0.5f, 0.5f, 0)) * 1.8f;
     const ImageAudit a = render_mesh(centred, 30);
-    std::printf("[stability] twisted quad %s: %d/%d aimed rays hit, round trip %.1e x size, "
-                "(s,t) error %.1e, frame orthonormal to %.1e; render NaN %lld Inf %lld max %.3f\n",
-                tw.name, rep.hits, rep.rays, rep.round_trip, rep.aim, rep.ortho,
-                (long long)(a.rgb.nan + a.alpha.nan), (long long)(a.rgb.inf + a.alpha.inf),
-                a.rgb.max);
+    std::printf(
+        "[stability] twisted quad %s: %d/%d aimed rays hit, round trip %.1e x size, "
+        "(s,t) error %.1e, frame orthonormal to %.1e; render NaN %lld Inf %lld max %.3f\n",
+        tw.name, rep.hits, rep.rays, rep.round_trip, rep.aim, rep.ortho,
+        (long long)(a.rgb.nan + a.alpha.nan), (long long)(a.rgb.inf + a.alpha.inf), a.rgb.max);
   }
   // A bow tie (corners 2 and 3 swapped): the normal flips, refused.
-  const QuadMesh bow = one_quad({V3f(0, 0, 0), V3f(1, 0, 0), V3f(0, 1, 0.1f), V3f(1, 1, 0)},
-                                k_unit_uv);
+  const QuadMesh bow =
+      one_quad({V3f(0, 0, 0), V3f(1, 0, 0), V3f(0, 1, 0.1f), V3f(1, 1, 0)}, k_unit_uv);
   EXPECT_FALSE(QuadPatch(bow, 0, 6.0f, V2f(1, 1), 0.36f, 0.05f).valid());
 }
 
@@ -993,13 +1002,14 @@ TEST(Stability, SliverQuads) {
       const ImageAudit a = render_mesh(mesh, 0, &img, 16, 64);
       double covered = 0.0;
       for (size_t i = 3; i < img.pixels.size(); i += 4) covered += img.pixels[i];
-      std::printf("[stability] sliver %.0e:1 %s: %d/%d aimed rays hit, round trip %.1e x size, "
-                  "(s,t) error %.1e, mm per world (%.3g, %.3g, %.3g); render (64 spp) NaN %lld "
-                  "Inf %lld max %.3f, summed alpha %.4f px^2 (projected area %.4f)\n",
-                  aspect, uv_name, rep.hits, rep.rays, rep.round_trip, rep.aim, f.mm_per_world.x,
-                  f.mm_per_world.y, f.mm_per_world.z, (long long)(a.rgb.nan + a.alpha.nan),
-                  (long long)(a.rgb.inf + a.alpha.inf), a.rgb.max, covered,
-                  2.0 * w / std::pow(2.0 * 10.0 * std::tan(6.0 * k_pi / 180.0) / 16, 2.0));
+      std::printf(
+          "[stability] sliver %.0e:1 %s: %d/%d aimed rays hit, round trip %.1e x size, "
+          "(s,t) error %.1e, mm per world (%.3g, %.3g, %.3g); render (64 spp) NaN %lld "
+          "Inf %lld max %.3f, summed alpha %.4f px^2 (projected area %.4f)\n",
+          aspect, uv_name, rep.hits, rep.rays, rep.round_trip, rep.aim, f.mm_per_world.x,
+          f.mm_per_world.y, f.mm_per_world.z, (long long)(a.rgb.nan + a.alpha.nan),
+          (long long)(a.rgb.inf + a.alpha.inf), a.rgb.max, covered,
+          2.0 * w / std::pow(2.0 * 10.0 * std::tan(6.0 * k_pi / 180.0) / 16, 2.0));
     }
 }
 
@@ -1031,9 +1041,10 @@ TEST(Stability, SubPixelQuads) {
     const double tol = 4.0 * std::sqrt(boundary / 4.0) / spp;
     const double area = side_px * side_px;
     EXPECT_NEAR(covered, area, tol) << side_px;
-    std::printf("[stability] sub-pixel quad %.3f px: summed alpha %.5f px^2 vs projected area "
-                "%.5f (tolerance %.5f), max radiance %.4f\n",
-                side_px, covered, area, tol, a.rgb.max);
+    std::printf(
+        "[stability] sub-pixel quad %.3f px: summed alpha %.5f px^2 vs projected area "
+        "%.5f (tolerance %.5f), max radiance %.4f\n",
+        side_px, covered, area, tol, a.rgb.max);
   }
 }
 
@@ -1105,14 +1116,16 @@ TEST(Stability, DirectionGridGrazingHorizonAndDegenerateDirections) {
   EXPECT_EQ(below.side, 1);
   EXPECT_NEAR(above.i0 + above.fx, below.i0 + below.fx, 1e-3);
   EXPECT_NEAR(above.j0 + above.fy, below.j0 + below.fy, 1e-3);
-  std::printf("[stability] direction grid: %lld footprints (both maps, K 2/3/8/64, grazing, "
-              "horizon, below, zero, tiny, huge, NaN, Inf): %lld out of range\n",
-              (long long)checked, (long long)bad);
+  std::printf(
+      "[stability] direction grid: %lld footprints (both maps, K 2/3/8/64, grazing, "
+      "horizon, below, zero, tiny, huge, NaN, Inf): %lld out of range\n",
+      (long long)checked, (long long)bad);
 }
 
 /// Mean over `n` marches at the slab's centre seen from `to_eye` (world =
 /// local frame on this flat quad): the renderer's converged answer.
-V3f shade_mean(const Renderer& r, const V3f& to_eye, int n, uint64_t salt, double* alpha = nullptr) {
+V3f shade_mean(const Renderer& r, const V3f& to_eye, int n, uint64_t salt,
+               double* alpha = nullptr) {
   V3f sum(0);
   double a = 0;
   for (int i = 0; i < n; ++i) {
@@ -1185,9 +1198,10 @@ TEST(Stability, LookupCoarseKAtGrazingViews) {
         std::snprintf(buf, sizeof buf, " %g:%.3f", thetas[ti], worst);
         line += buf;
       }
-      std::printf("[stability] lookup %s K=%2d, max rel. error vs renderer by view angle "
-                  "(deg:err):%s\n",
-                  map == DirectionMap::Polar ? "polar   " : "hemi-oct", k, line.c_str());
+      std::printf(
+          "[stability] lookup %s K=%2d, max rel. error vs renderer by view angle "
+          "(deg:err):%s\n",
+          map == DirectionMap::Polar ? "polar   " : "hemi-oct", k, line.c_str());
     }
   // More nodes must help at grazing views.
   EXPECT_LT(err_k16_grazing, err_k2_grazing);
@@ -1212,8 +1226,8 @@ TEST(Stability, BakeTexelResolutionExtremes) {
   double ref = 0, ref2 = 0;
   for (int i = 0; i < m_ref; ++i) {
     Rng rng(hash_key(77, i));
-    const double v = r.shade_surface(0, 0, rng.next_float(), rng.next_float(), V3f(0, 0, -1), rng)
-                         .radiance.x;
+    const double v =
+        r.shade_surface(0, 0, rng.next_float(), rng.next_float(), V3f(0, 0, -1), rng).radiance.x;
     ref += v;
     ref2 += v * v;
   }
@@ -1264,11 +1278,12 @@ TEST(Stability, BakeTexelResolutionExtremes) {
       EXPECT_TRUE(std::isfinite(rgba[0]) && rgba[0] >= 0.0f && rgba[0] <= bound);
       worst_lookup = std::max(worst_lookup, std::fabs(rgba[0] - ref));
     }
-    std::printf("[stability] texels %d (spp %d): mean texel R %.5f vs renderer %.5f (tol %.1e), "
-                "texel RMS deviation %.2e (one march: %.2e), worst lookup deviation %.2e; "
-                "atlas %dx%d\n",
-                texels, bs.spp, mean, ref, tol, std::sqrt(sum2 / n), sd, worst_lookup,
-                tables[0].atlases[0].width, tables[0].atlases[0].height);
+    std::printf(
+        "[stability] texels %d (spp %d): mean texel R %.5f vs renderer %.5f (tol %.1e), "
+        "texel RMS deviation %.2e (one march: %.2e), worst lookup deviation %.2e; "
+        "atlas %dx%d\n",
+        texels, bs.spp, mean, ref, tol, std::sqrt(sum2 / n), sd, worst_lookup,
+        tables[0].atlases[0].width, tables[0].atlases[0].height);
   }
   // The woven cloth: one texel per quad averages the weave away.
   Scene woven = woven_scene(4);
