@@ -5,7 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -63,38 +66,39 @@ void run_volume(const VolumeArgs& args) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // Step 2: outputs, each written atomically.
+  // Step 2: the previews and a summary for scripts and people.
   io::ensure_directory(args.out_dir);
   const std::filesystem::path dir(args.out_dir);
   const WeaveGeometry geom = weave_geometry(spec);
   const std::string desc = weave_label(spec) + ", " + std::to_string(volume.nx()) + " x " +
                            std::to_string(volume.ny()) + " x " + std::to_string(volume.nz()) +
                            " cells, seed " + std::to_string(spec.seed);
-  io::write_volume_vdb((dir / "volume.vdb").string(), volume, desc);
-
   const int repeats = 3, px_per_repeat = 256;
-  io::write_png((dir / "top.png").string(),
-                labelled(preview_top(volume, repeats, px_per_repeat),
-                         "top view, " + std::to_string(repeats) + "x" + std::to_string(repeats) +
-                             " repeats: " + desc),
-                true);
-  io::write_png((dir / "tangents.png").string(),
-                labelled(preview_tangents(volume, repeats, px_per_repeat),
-                         "fibre tangent of the top-most fibre cell, colour = 0.5 + 0.5 v"),
-                false);
   const float ppm = 768.0f / std::max(geom.size_mm.x, geom.size_mm.y) / repeats;
-  io::write_png(
-      (dir / "section_warp.png").string(),
-      labelled(preview_section_along_warp(volume, 0.5f * spec.warp.spacing_mm, repeats, ppm),
-               "section along warp end 0 (y across, z up), true aspect"),
-      true);
-  io::write_png(
-      (dir / "section_weft.png").string(),
-      labelled(preview_section_along_weft(volume, 0.5f * spec.weft.spacing_mm, repeats, ppm),
-               "section along weft pick 0 (x across, z up), true aspect"),
-      true);
+  struct Preview {
+    const char* file;
+    Image image;
+    bool linear;
+  };
+  const Preview previews[] = {
+      {"top.png",
+       labelled(preview_top(volume, repeats, px_per_repeat),
+                "top view, " + std::to_string(repeats) + "x" + std::to_string(repeats) +
+                    " repeats: " + desc),
+       true},
+      {"tangents.png",
+       labelled(preview_tangents(volume, repeats, px_per_repeat),
+                "fibre tangent of the top-most fibre cell, colour = 0.5 + 0.5 v"),
+       false},
+      {"section_warp.png",
+       labelled(preview_section_along_warp(volume, 0.5f * spec.warp.spacing_mm, repeats, ppm),
+                "section along warp end 0 (y across, z up), true aspect"),
+       true},
+      {"section_weft.png",
+       labelled(preview_section_along_weft(volume, 0.5f * spec.weft.spacing_mm, repeats, ppm),
+                "section along weft pick 0 (x across, z up), true aspect"),
+       true}};
 
-  // Step 3: a summary for scripts and people.
   double rho_sum = 0.0;
   size_t occupied = 0;
   for (const Cell& c : volume.cells()) {
@@ -118,11 +122,27 @@ void run_volume(const VolumeArgs& args) {
       {"generate_seconds", seconds},
       {"memory_bytes", estimated_volume_bytes(spec)},
       {"files", {"volume.vdb", "top.png", "tangents.png", "section_warp.png", "section_weft.png"}}};
-  io::write_atomically((dir / "volume.json").string(), [&](const std::string& temp) {
+
+  // Step 3: every file written beside its final name, then all renamed into
+  // place together: a failure or an interrupt leaves the folder as it was.
+  std::vector<std::pair<std::string, std::function<void(const std::string&)>>> files;
+  const std::string vdb_path = (dir / "volume.vdb").string();
+  files.emplace_back(vdb_path, [&](const std::string& temp) {
+    io::write_volume_vdb_to(temp, vdb_path, volume, desc);
+  });
+  for (const Preview& p : previews) {
+    const std::string path = (dir / p.file).string();
+    files.emplace_back(path, [&p, path](const std::string& temp) {
+      io::write_png_to(temp, path, p.image, p.linear);
+    });
+  }
+  const std::string json_path = (dir / "volume.json").string();
+  files.emplace_back(json_path, [&](const std::string& temp) {
     std::ofstream out(temp);
     out << summary.dump(2) << "\n";
-    if (!out) throw InputError("", "cannot write summary", (dir / "volume.json").string());
+    if (!out) throw InputError("", "cannot write summary", json_path);
   });
+  io::write_all_atomically(files);
   std::printf("%s\n", summary.dump(2).c_str());
 }
 

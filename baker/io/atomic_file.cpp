@@ -13,6 +13,7 @@
 #include <system_error>
 #include <thread>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "core/error.h"
@@ -109,6 +110,31 @@ std::string temporary_sibling(const std::string& final_path) {
   return (dir / ("." + final_p.stem().string() + ".tmp" + std::to_string(::getpid()) + "-" +
                  std::to_string(counter++) + final_p.extension().string()))
       .string();
+}
+
+void write_bytes_checked(const std::string& temp_path, const std::string& final_path,
+                         const void* bytes, size_t size) {
+  auto fail = [&](const char* what) {
+    throw InputError("", std::string(what) + ": " + std::strerror(errno), final_path);
+  };
+  const int fd = ::open(temp_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail("cannot create the file");
+  const char* p = static_cast<const char*>(bytes);
+  size_t left = size;
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;
+      const int saved = errno;
+      ::close(fd);
+      errno = saved;
+      fail("cannot write the file");
+    }
+    p += n;
+    left -= size_t(n);
+  }
+  if (::close(fd) != 0) fail("cannot write the file");
 }
 
 void write_atomically(const std::string& final_path,

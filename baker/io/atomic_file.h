@@ -44,6 +44,12 @@ int remove_unfinished_outputs_and_freeze();
 /// atomic; same extension, so writers that pick the format by extension work).
 std::string temporary_sibling(const std::string& final_path);
 
+/// Writes `bytes` to `temp_path`, checking every write and the close: a full
+/// disk or a file size limit (EFBIG) is an InputError naming `final_path`
+/// with the system's reason, never a silently short file.
+void write_bytes_checked(const std::string& temp_path, const std::string& final_path,
+                         const void* bytes, size_t size);
+
 /// Calls `write(temp_path)` with a temporary path in the same folder as
 /// `final_path`, then renames it to `final_path`. If `write` throws, the
 /// temporary file is removed and the exception propagates; `final_path` is

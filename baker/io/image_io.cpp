@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
@@ -39,6 +40,21 @@ oiio::ImageBuf png_buf(const Image& image, bool linear) {
   return oiio::ImageBufAlgo::clamp(buf, 0.0f, 1.0f);
 }
 
+/// A PNG to `temp`. OpenImageIO's PNG writer does not report a failed write
+/// (a full disk or a file size limit left an 8 KiB PNG and exit status 0), so
+/// the PNG is encoded in memory and written by write_bytes_checked.
+void write_png_buf_to(const std::string& temp, const std::string& path, oiio::ImageBuf& buf) {
+  OIIO::Filesystem::IOVecOutput memory;
+  buf.set_write_ioproxy(&memory);
+  const bool ok = buf.write(temp, oiio::TypeDesc::UINT8, "png");
+  buf.set_write_ioproxy(nullptr);
+  if (!ok) {
+    const std::string why = buf.geterror();
+    throw InputError("", "cannot write image: " + (why.empty() ? "write error" : why), path);
+  }
+  write_bytes_checked(temp, path, memory.buffer().data(), memory.buffer().size());
+}
+
 oiio::ImageBuf exr_buf(const Image& image) {
   oiio::ImageBuf buf = to_imagebuf(image);
   const char* names4[] = {"R", "G", "B", "A"};
@@ -55,9 +71,14 @@ oiio::ImageBuf exr_buf(const Image& image) {
 }  // namespace
 
 void write_png(const std::string& path, const Image& image, bool linear) {
-  const oiio::ImageBuf buf = png_buf(image, linear);
-  write_atomically(
-      path, [&](const std::string& temp) { write_buf_to(temp, path, buf, oiio::TypeDesc::UINT8); });
+  oiio::ImageBuf buf = png_buf(image, linear);
+  write_atomically(path, [&](const std::string& temp) { write_png_buf_to(temp, path, buf); });
+}
+
+void write_png_to(const std::string& temp, const std::string& path, const Image& image,
+                  bool linear) {
+  oiio::ImageBuf buf = png_buf(image, linear);
+  write_png_buf_to(temp, path, buf);
 }
 
 void write_exr(const std::string& path, const Image& image) {
@@ -75,7 +96,8 @@ void write_render_images(const std::string& exr_path, const std::string& png_pat
   });
   if (!png_path.empty())
     files.emplace_back(png_path, [&](const std::string& temp) {
-      write_buf_to(temp, png_path, png_buf(image.rgb(), true), oiio::TypeDesc::UINT8);
+      oiio::ImageBuf png = png_buf(image.rgb(), true);
+      write_png_buf_to(temp, png_path, png);
     });
   write_all_atomically(files);
 }

@@ -13,6 +13,11 @@ namespace clothbake::io {
 /// false writes the values as they are (already display-referred, e.g. colour maps).
 void write_png(const std::string& path, const Image& image, bool linear);
 
+/// The same PNG written to `temp` as it is, for a caller that renames it into
+/// place itself (write_all_atomically); errors name `path`, the final name.
+void write_png_to(const std::string& temp, const std::string& path, const Image& image,
+                  bool linear);
+
 /// Writes a float EXR (linear, no transfer curve), channels R,G,B[,A].
 void write_exr(const std::string& path, const Image& image);
 

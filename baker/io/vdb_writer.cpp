@@ -1,5 +1,8 @@
 #include "io/vdb_writer.h"
 
+#include <sstream>
+
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
 #include "core/error.h"
@@ -27,8 +30,8 @@ typename GridT::Ptr make_grid(const VolumeTexture& volume, const char* name,
 
 }  // namespace
 
-void write_volume_vdb(const std::string& path, const VolumeTexture& volume,
-                      const std::string& description) {
+void write_volume_vdb_to(const std::string& temp, const std::string& path,
+                         const VolumeTexture& volume, const std::string& description) {
   openvdb::initialize();
   const Imath::V3f cell = volume.cell_size_mm();
   openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
@@ -58,15 +61,23 @@ void write_volume_vdb(const std::string& path, const VolumeTexture& volume,
   meta.insertMeta("clothbake_size_mm",
                   openvdb::Vec3DMetadata(
                       openvdb::Vec3d(volume.size_mm().x, volume.size_mm().y, volume.size_mm().z)));
-  write_atomically(path, [&](const std::string& temp) {
-    try {
-      openvdb::io::File file(temp);
-      file.write(grids, meta);
-      file.close();
-    } catch (const openvdb::Exception& e) {
-      throw InputError("", std::string("cannot write VDB: ") + e.what(), path);
-    }
-  });
+  // OpenVDB's file writer does not report a failed write (a full disk or a
+  // file size limit left an 8 KiB file and exit status 0): the grids are
+  // serialised in memory and written by write_bytes_checked.
+  std::ostringstream bytes(std::ios_base::out | std::ios_base::binary);
+  try {
+    openvdb::io::Stream(bytes).write(grids, meta);
+  } catch (const openvdb::Exception& e) {
+    throw InputError("", std::string("cannot write VDB: ") + e.what(), path);
+  }
+  const std::string data = std::move(bytes).str();
+  write_bytes_checked(temp, path, data.data(), data.size());
+}
+
+void write_volume_vdb(const std::string& path, const VolumeTexture& volume,
+                      const std::string& description) {
+  write_atomically(
+      path, [&](const std::string& temp) { write_volume_vdb_to(temp, path, volume, description); });
 }
 
 }  // namespace clothbake::io

@@ -22,4 +22,9 @@ inline constexpr const char* k_vdb_grid_names[] = {"density", "tangent", "diffus
 void write_volume_vdb(const std::string& path, const VolumeTexture& volume,
                       const std::string& description);
 
+/// Writes `volume` to `temp` as it is, for a caller that renames it into
+/// place itself (write_all_atomically); errors name `path`, the final name.
+void write_volume_vdb_to(const std::string& temp, const std::string& path,
+                         const VolumeTexture& volume, const std::string& description);
+
 }  // namespace clothbake::io

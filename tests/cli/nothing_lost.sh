@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Nothing lost (docs/hardening.md): a render or bake that is interrupted, runs
+# Nothing lost (docs/hardening.md): a render, bake or volume that is interrupted, runs
 # out of disk or meets a read-only folder leaves the previous output byte for
 # byte as it was, no half-written file under the final name and no temporary
 # file; a re-run completes and gives the whole output.
@@ -7,9 +7,16 @@
 set -u
 exe=$1 root=$2
 slab=$root/testscenes/slab/scene.json
+# Two cloth specs with different volumes (the paper cloth, seeds 1 and 2): the
+# interrupted `volume` runs make the other one, so a file of theirs published
+# by mistake would show.
+paper_cloth=$root/testscenes/paper/cloth.json
 tmp=$(mktemp -d)
 trap 'chmod -R u+rwX "$tmp" 2>/dev/null; rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+other_cloth=$tmp/paper_seed2.json
+sed 's/"seed": 1/"seed": 2/' "$paper_cloth" >"$other_cloth"
+cmp -s "$paper_cloth" "$other_cloth" && fail "could not make a second cloth spec"
 small=(--directions 3 --texels 4 --spp 1 --quiet)
 out=$tmp/out
 
@@ -17,13 +24,17 @@ out=$tmp/out
 mkdir -p "$out"
 "$exe" render "$slab" -o "$out/r.exr" --png "$out/r.png" --quiet || fail "first render"
 "$exe" bake "$slab" -o "$out/b" "${small[@]}" >/dev/null || fail "first bake"
+"$exe" volume "$paper_cloth" -o "$out/v" >/dev/null || fail "first volume"
 digest() { (cd "$out" && find . -type f | LC_ALL=C sort | xargs sha256sum); }
 digest >"$tmp/before"
 intact() {  # case name: the previous outputs are intact and nothing else is there
   digest | cmp -s - "$tmp/before" || { diff <(digest) "$tmp/before"; fail "$1: previous output changed"; }
   local extra
-  extra=$(ls -A "$out" | grep -v -x -e r.exr -e r.png -e b)
+  extra=$(ls -A "$out" | grep -v -x -e r.exr -e r.png -e b -e v)
   [[ -z $extra ]] || fail "$1: left behind in the output folder: $extra"
+  extra=$(ls -A "$out/v" | grep -v -x -e volume.vdb -e volume.json -e top.png -e tangents.png \
+    -e section_warp.png -e section_weft.png)
+  [[ -z $extra ]] || fail "$1: left behind in the volume folder: $extra"
 }
 # Waits until FILE has a line matching PATTERN (up to 120 s) while PID runs.
 wait_for() {
@@ -72,6 +83,11 @@ grep -q "2 unfinished outputs removed" "$tmp/render_before_rename.err" || fail "
 interrupted bake_before_rename "holding unfinished .*b.tmp-" CLOTHBAKE_TEST_HOLD_UNFINISHED=60 -- \
   "$exe" bake "$slab" -o "$out/b" --directions 3 --texels 4 --spp 2
 grep -q "1 unfinished output removed" "$tmp/bake_before_rename.err" || fail "bake_before_rename: temporary folder not reported removed"
+# `volume` writes six files (VDB, four previews, summary) and publishes them
+# together: held before the renames, none may have replaced its old version.
+interrupted volume_before_rename "holding unfinished .*volume.tmp.*json" CLOTHBAKE_TEST_HOLD_UNFINISHED=60 -- \
+  "$exe" volume "$other_cloth" -o "$out/v"
+grep -q "6 unfinished outputs removed" "$tmp/volume_before_rename.err" || fail "volume_before_rename: temporaries not reported removed"
 
 # --- (b) a full disk: a file size limit (RLIMIT_FSIZE), writes fail with EFBIG --
 refused() {  # name, expected message, command... : exit 1, message, previous intact
@@ -88,6 +104,8 @@ refused render_disk_full "$out/r.exr: cannot write image: " \
   limited 8 "$exe" render "$slab" -o "$out/r.exr" --png "$out/r.png" --spp 2 --quiet
 refused bake_disk_full "$out/b: cannot write manifest.json: File too large; nothing under this name was changed" \
   limited 2 "$exe" bake "$slab" -o "$out/b" --directions 3 --texels 4 --spp 2 --quiet
+refused volume_disk_full "$out/v/volume.vdb: cannot write the file: File too large" \
+  limited 8 "$exe" volume "$other_cloth" -o "$out/v"
 
 # --- (c) a read-only output folder ----------------------------------------------
 # chmod 555 does not stop root: root runs the command without CAP_DAC_OVERRIDE
@@ -131,6 +149,15 @@ cmp -s <(python3 "$root/tests/cli/manifest_without_times.py" "$out/b/manifest.js
   <(python3 "$root/tests/cli/manifest_without_times.py" "$tmp/fresh_b/manifest.json") ||
   fail "re-run bake: manifest differs from an uninterrupted bake (times aside)"
 "$exe" lookup-render "$slab" "$out/b" -o "$tmp/lookup.exr" --quiet || fail "lookup-render of the re-run bake"
-extra=$(ls -A "$out" | grep -v -x -e r.exr -e r.png -e b)
+"$exe" volume "$other_cloth" -o "$out/v" >/dev/null || fail "re-run volume"
+"$exe" volume "$other_cloth" -o "$tmp/fresh_v" >/dev/null || fail "fresh volume"
+# (A VDB file carries a random UUID: its cells are compared by their hash.)
+for f in top.png tangents.png section_warp.png section_weft.png; do
+  cmp -s "$out/v/$f" "$tmp/fresh_v/$f" || fail "re-run volume: $f differs from an uninterrupted run"
+done
+cells_hash() { grep -o '"cells_hash": "[0-9a-f]*"' "$1"; }
+[[ -n $(cells_hash "$out/v/volume.json") && $(cells_hash "$out/v/volume.json") == "$(cells_hash "$tmp/fresh_v/volume.json")" ]] ||
+  fail "re-run volume: cells hash differs from an uninterrupted run"
+extra=$(ls -A "$out" | grep -v -x -e r.exr -e r.png -e b -e v)
 [[ -z $extra ]] || fail "re-run: left behind: $extra"
-echo "ok   re-run: render and bake complete, byte-identical to uninterrupted runs, lookup-render reads the bake"
+echo "ok   re-run: render, bake and volume complete, byte-identical to uninterrupted runs, lookup-render reads the bake"

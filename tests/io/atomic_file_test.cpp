@@ -5,6 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <functional>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +21,10 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
+#include "core/volume_texture.h"
+#include "io/image_io.h"
+#include "io/vdb_writer.h"
 
 namespace clothbake::io {
 namespace {
@@ -116,6 +127,75 @@ TEST_F(AtomicFile, OutputFolderIsCheckedFirst) {
   EXPECT_EQ(message(path("file/r.exr")), "-o | " + path("file") + " is not a folder");
   fs::create_directories(path("r2.exr"));
   EXPECT_EQ(message(path("r2.exr")), "-o | is a folder; expected a file name");
+}
+
+}  // namespace
+}  // namespace clothbake::io
+
+namespace clothbake::io {
+namespace {
+
+// A full disk must be an error, not a short file. /dev/full fails every write
+// with ENOSPC. OpenImageIO's PNG writer and OpenVDB's file writer report no
+// such failure themselves (a file size limit once left 8 KiB files and exit
+// status 0), which is why PNGs are written by write_bytes_checked and a VDB is
+// read back.
+TEST(FullDisk, WriteBytesCheckedReportsIt) {
+  const char bytes[16] = {};
+  try {
+    write_bytes_checked("/dev/full", "out/final.bin", bytes, sizeof bytes);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.message().find("No space left on device"), std::string::npos) << e.message();
+    EXPECT_NE(std::string(e.what()).find("out/final.bin"), std::string::npos) << e.what();
+  }
+}
+
+// Runs `write` in a child process whose files may not grow past 4 KiB
+// (RLIMIT_FSIZE, SIGXFSZ ignored: writes fail with EFBIG after the first
+// 4 KiB, as on a full disk): true if it threw an InputError.
+bool refuses_past_a_file_size_limit(const std::function<void()>& write) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      write();
+    } catch (const InputError&) {
+      ::_exit(0);
+    }
+    ::_exit(1);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+TEST(FullDisk, PngAndVdbWritersReportIt) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("clothbake_full_disk_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  // Noise: a PNG of some 190 KB, far past the limit.
+  Image image(256, 256, 3);
+  uint64_t x = 1;
+  for (float& v : image.pixels) v = float((x = x * 6364136223846793005ull + 1) >> 40) / 16777216.0f;
+  const std::string png = (dir / "top.png").string();
+  EXPECT_TRUE(refuses_past_a_file_size_limit([&] { write_png_to(png, png, image, true); }));
+  VolumeTexture volume(32, 32, 8, Imath::V3f(1, 1, 0.5f));
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 32; ++j)
+      for (int i = 0; i < 32; ++i)
+        volume.at(i, j, k).density = float((i * 7 + j * 3 + k) % 5) / 4.0f;
+  const std::string vdb = (dir / "volume.vdb").string();
+  EXPECT_TRUE(
+      refuses_past_a_file_size_limit([&] { write_volume_vdb_to(vdb, vdb, volume, "test"); }));
+  // Without the limit both write.
+  write_png_to(png, png, image, true);
+  write_volume_vdb_to(vdb, vdb, volume, "test");
+  EXPECT_GT(std::filesystem::file_size(png), 4096u);
+  EXPECT_GT(std::filesystem::file_size(vdb), 4096u);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
