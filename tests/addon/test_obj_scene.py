@@ -120,8 +120,10 @@ def test_loads_the_paper_scene(source_dir):
      "objects[0].isotropic_albedo: must be an array of 3 numbers"),
     ('"objects": [{"mesh": "a.obj", "cloth": {"weft": {"color": "red"}}}]',
      "objects[0].cloth.weft.color: must be an array of 3 numbers"),
-    ('"objects": [{"mesh": "a.obj", "cloth": {}, "volume": "v.vdb"}]',
-     "objects[0].volume: the add-on does not import objects whose texture is read from a VDB"),
+    ('"objects": [{"mesh": "a.obj", "cloth": {}, "volume": 7}]',
+     "objects[0].volume: must be the path of a VDB file"),
+    ('"objects": [{"mesh": "a.obj", "cloth": {}, "volume": "none.vdb"}]',
+     "objects[0].volume: the VDB file"),
 ])
 def test_refuses_bad_scenes(tmp_path, edit, message):
     path = tmp_path / "scene.json"

@@ -358,13 +358,32 @@ def main():
     except json.JSONDecodeError as e:
         expect(bpy.ops.clothbake.import_scene, f"{path}: line {e.lineno}: invalid JSON: {e.msg}",
                "d. import of truncated JSON", filepath=path)
-    path = scene_file("volume", lambda d: d["objects"][0].update(volume="volume.vdb"))
+    path = scene_file("volume_number", lambda d: d["objects"][0].update(volume=7))
     expect(bpy.ops.clothbake.import_scene,
-           f"{path}: objects[0].volume: the add-on does not import objects whose texture is "
-           "read from a VDB; remove \"volume\" to import the cloth spec",
-           "d. import of a scene whose object reads a VDB", filepath=path)
+           f"{path}: objects[0].volume: must be the path of a VDB file",
+           "d. import of a scene whose object's volume is not a path", filepath=path)
     check(sorted(o.name for o in scene.objects) == before,
           "d. refused imports left the Blender scene unchanged")
+
+    # -- e. a scene whose cloth reads its texture from a VDB: imported, and
+    # exported with the VDB (relative to the new scene file) ---------------------
+    run = subprocess.run([CLOTHBAKE, "volume", os.path.join(paper_dir, "cloth.json"), "-o",
+                          os.path.join(TMP, "vdb"), "--threads", "1"], capture_output=True,
+                         text=True)
+    check(run.returncode == 0, f"e. a VDB of the paper cloth made {run.stderr.strip()}")
+    vdb = os.path.join(TMP, "vdb", "volume.vdb")
+    path = scene_file("volume", lambda d: d["objects"][0].update(volume=vdb))
+    r = Reports(bpy.ops.clothbake.import_scene, filepath=path)
+    cloth = bpy.data.objects.get("cloth")
+    check(not r.error and cloth is not None and
+          os.path.abspath(bpy.path.abspath(cloth.clothbake.volume_path)) == vdb,
+          f"e. import keeps the object's VDB: {r.describe()}")
+    exported = os.path.join(TMP, "exported_volume", "scene.json")
+    r = Reports(bpy.ops.clothbake.export_scene, filepath=exported)
+    written = json.load(open(exported, encoding="utf-8")) if os.path.exists(exported) else {}
+    volumes = [o.get("volume") for o in written.get("objects", [])]
+    check(not r.error and volumes == [os.path.relpath(vdb, os.path.dirname(exported))],
+          f"e. export writes the VDB relative to the scene file: {volumes} {r.describe()}")
 
     addon_utils.disable("clothbake", default_set=True, handle_error=None)
 

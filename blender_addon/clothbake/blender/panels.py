@@ -57,6 +57,10 @@ class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
             layout.label(text="Edited: exported inline" if cloth.cloth_edited
                          else "Exported as a reference to the file",
                          icon="GREASEPENCIL" if cloth.cloth_edited else "LINKED")
+        layout.prop(cloth, "volume_path")
+        if cloth.volume_path:
+            layout.label(text="Texture read from the VDB; the spec gives the fibre model",
+                         icon="INFO")
         layout.prop(cloth, "weave")
         if cloth.weave == DRAFT:
             layout.label(text="Draft from the spec file", icon="INFO")

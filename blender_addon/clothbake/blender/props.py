@@ -144,6 +144,10 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
             name="Isotropic albedo", subtype="COLOR", size=3, min=0.0, max=1.0,
             default=(0.8, 0.8, 0.8),
             description="Scattering albedo when the reference renderer's shading is isotropic"),
+        "volume_path": bpy.props.StringProperty(
+            name="Volume VDB", subtype="FILE_PATH",
+            description="VDB whose volume texture replaces the one generated from the cloth "
+                        "spec (the spec still gives the fibre model); empty = generate"),
         "lookup_dir": bpy.props.StringProperty(
             name="Lookup folder", subtype="DIR_PATH",
             description="Lookup to apply to this object; empty = the scene's bake folder"),
@@ -200,6 +204,7 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
         self.thickness_world = o["thickness_world"]
         self.extinction_per_mm = o["extinction_per_mm"]
         self.isotropic_albedo = o.get("isotropic_albedo", (0.8, 0.8, 0.8))
+        self.volume_path = o.get("volume_path", "")
 
     def cloth(self):
         """What export writes as the object's cloth: the spec file's absolute
@@ -212,10 +217,13 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
     def to_scene_object(self):
         """The object's entry for clothbake.core.scene_export.build_scene,
         without its mesh. Raises ClothbakeError."""
-        return {"name": self.id_data.name, "cloth": self.cloth(),
-                "repeats_per_uv": self.repeats_per_uv, "thickness_world": self.thickness_world,
-                "extinction_per_mm": self.extinction_per_mm,
-                "isotropic_albedo": list(self.isotropic_albedo)}
+        out = {"name": self.id_data.name, "cloth": self.cloth(),
+               "repeats_per_uv": self.repeats_per_uv, "thickness_world": self.thickness_world,
+               "extinction_per_mm": self.extinction_per_mm,
+               "isotropic_albedo": list(self.isotropic_albedo)}
+        if self.volume_path:
+            out["volume"] = os.path.abspath(bpy.path.abspath(self.volume_path))
+        return out
 
 
 def _items(names):

@@ -144,11 +144,16 @@ def load_scene(path):
             raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
         obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
         if "volume" in oj:
-            # The program reads it (docs/scene-format.md); the add-on would
-            # drop it on export and bake the spec's texture instead.
-            raise ClothbakeError("the add-on does not import objects whose texture is read from "
-                                 "a VDB; remove \"volume\" to import the cloth spec", path,
-                                 where + ".volume")
+            # A texture read from a VDB (docs/scene-format.md): kept as a path
+            # and written back on export; the cloth spec still gives the fibre
+            # model. The program reads and checks the file when it renders.
+            volume = oj["volume"]
+            if not isinstance(volume, str) or not volume:
+                raise ClothbakeError("must be the path of a VDB file", path, where + ".volume")
+            obj["volume_path"] = os.path.normpath(os.path.join(folder, volume))
+            if not os.path.isfile(obj["volume_path"]):
+                raise ClothbakeError(f"the VDB file {obj['volume_path']} does not exist", path,
+                                     where + ".volume")
         cloth = oj.get("cloth")
         if isinstance(cloth, str):
             obj["cloth_path"] = os.path.normpath(os.path.join(folder, cloth))

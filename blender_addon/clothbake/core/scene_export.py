@@ -197,7 +197,8 @@ def build_scene(camera, lights, objects, background, render=None, name=None, des
     (camera_from_blender, light_from_blender), objects as dicts with name,
     mesh (QuadMeshData, world space), cloth (absolute path of a spec file, or
     a spec dict), repeats_per_uv, thickness_world, extinction_per_mm and
-    optionally isotropic_albedo; background linear RGB."""
+    optionally isotropic_albedo and volume (path of a VDB whose texture
+    replaces the generated one); background linear RGB."""
     if not lights:
         raise ClothbakeError("a clothbake scene needs at least one sun or point light", "",
                              "lights")
@@ -216,6 +217,8 @@ def build_scene(camera, lights, objects, background, render=None, name=None, des
             entry[key] = short_float(o[key])
         if o.get("isotropic_albedo") is not None:
             entry["isotropic_albedo"] = [short_float(c) for c in o["isotropic_albedo"]]
+        if o.get("volume"):
+            entry["volume"] = os.path.abspath(o["volume"])
         out_objects.append(entry)
     model = {"camera": camera, "lights": lights, "objects": out_objects,
              "background": [short_float(c) for c in background],
@@ -242,8 +245,8 @@ def mesh_filenames(model):
 
 
 def scene_json(model, scene_path):
-    """The JSON dict of `model` for a scene file at `scene_path`: meshes and
-    cloth spec files referred to relative to its folder."""
+    """The JSON dict of `model` for a scene file at `scene_path`: meshes,
+    cloth spec files and VDBs referred to relative to its folder."""
     folder = os.path.dirname(os.path.abspath(scene_path))
     root = {}
     for key in ("name", "description"):
@@ -255,11 +258,12 @@ def scene_json(model, scene_path):
     for o, filename in zip(model["objects"], mesh_filenames(model)):
         entry = dict(o)
         entry["mesh"] = filename
-        if isinstance(o["cloth"], str):
-            try:
-                entry["cloth"] = os.path.relpath(o["cloth"], folder)
-            except ValueError:  # another drive
-                entry["cloth"] = o["cloth"]
+        for key in ("cloth", "volume"):
+            if isinstance(o.get(key), str):
+                try:
+                    entry[key] = os.path.relpath(o[key], folder)
+                except ValueError:  # another drive
+                    entry[key] = o[key]
         objects.append(entry)
     root["objects"] = objects
     root["background"] = model["background"]
@@ -369,6 +373,9 @@ def scene_matches_file(model, path, tol=SNAP_TOLERANCE):
         if not _close(albedo, p["isotropic_albedo"], tol):
             return False
         if not _same_cloth(o["cloth"], p.get("cloth_path", p.get("cloth"))):
+            return False
+        volume = os.path.abspath(o["volume"]) if o.get("volume") else None
+        if volume != p.get("volume_path"):
             return False
         if not _same_mesh(o["mesh"], mesh, tol):
             return False
