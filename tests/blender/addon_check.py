@@ -1,8 +1,8 @@
 """What the headless add-on checks (addon_ui.py, addon_errors.py) share:
 their arguments (CLOTHBAKE_EXE SOURCE_DIR WORK_DIR after Blender's "--"),
-the add-on on sys.path, the test scenes, and check()/run() that count
-failures and turn them into Blender's exit status. Run by
-run_addon_script.sh."""
+the add-on on sys.path, the test scenes, enabling the add-on, and
+check()/run() that count failures and turn them into Blender's exit status.
+Run by run_addon_script.sh."""
 import os
 import sys
 import traceback
@@ -20,6 +20,19 @@ def check(condition, what):
     print(("ok   " if condition else "FAIL ") + what, flush=True)
     if not condition:
         failures.append(what)
+
+
+def enable_addon():
+    """Enables the add-on from the source tree (checked), pointed at the
+    program under test, one worker thread; returns its preferences."""
+    import addon_utils
+    import bpy
+    addon_utils.enable("clothbake", default_set=True, handle_error=None)
+    check(addon_utils.check("clothbake")[1], "add-on enabled from the source tree")
+    prefs = bpy.context.preferences.addons["clothbake"].preferences
+    prefs.program = CLOTHBAKE
+    prefs.threads = 1
+    return prefs
 
 
 def run_checks(main):

@@ -26,7 +26,7 @@ import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, run_checks  # noqa: E402
+from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
 
 
 class Reports:
@@ -85,11 +85,7 @@ def write(path, text):
 
 
 def main():
-    addon_utils.enable("clothbake", default_set=True, handle_error=None)
-    check(addon_utils.check("clothbake")[1], "add-on enabled from the source tree")
-    prefs = bpy.context.preferences.addons["clothbake"].preferences
-    prefs.program = CLOTHBAKE
-    prefs.threads = 1
+    enable_addon()
     scene = bpy.context.scene
     settings = scene.clothbake
 

@@ -19,7 +19,7 @@ import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, run_checks  # noqa: E402
+from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
 
 
 def expect_error(op, texts, what, **kwargs):
@@ -52,11 +52,7 @@ def close(a, b, tol=1e-5):
 
 def main():
     # -- register ------------------------------------------------------------
-    addon_utils.enable("clothbake", default_set=True, handle_error=None)
-    check(addon_utils.check("clothbake")[1], "add-on enabled from the source tree")
-    prefs = bpy.context.preferences.addons["clothbake"].preferences
-    prefs.program = CLOTHBAKE
-    prefs.threads = 1
+    prefs = enable_addon()
     for op in ("import_scene", "export_scene", "bake", "apply", "compare"):
         check(hasattr(bpy.types, f"CLOTHBAKE_OT_{op}"), f"operator clothbake.{op} registered")
     check(hasattr(bpy.types, "CLOTHBAKE_PT_object"), "panel registered")

@@ -93,13 +93,15 @@ def write_mesh_layers(obj, lookup, lookup_object):
     if weave is None:
         raise ClothbakeError(f"mesh '{obj.name}' has no UV map; the weave follows the UVs")
 
+    # Each face's world corners and UVs, read once: the mesh check and the
+    # attributes both use them.
     to_world = obj.matrix_world
+    quads = []
+    for poly in mesh.polygons:
+        loops = list(poly.loop_indices)
+        quads.append(([tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
+                       for li in loops], [tuple(weave.data[li].uv) for li in loops]))
     if lookup_object.mesh is not None:
-        quads = []
-        for poly in mesh.polygons:
-            loops = list(poly.loop_indices)
-            quads.append(([tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
-                           for li in loops], [tuple(weave.data[li].uv) for li in loops]))
         differs = mesh_summary.difference(lookup_object.mesh, mesh_summary.summarize(quads))
         if differs:
             raise ClothbakeError(f"mesh '{obj.name}' is not the mesh the lookup's object "
@@ -108,11 +110,7 @@ def write_mesh_layers(obj, lookup, lookup_object):
                                  "again)", manifest, f"objects[{lookup_object.index}].mesh")
     values = {name: [] for name in FACE_ATTRS}
     degenerate = 0
-    for poly in mesh.polygons:
-        loops = list(poly.loop_indices)
-        corners = [tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
-                   for li in loops]
-        uvs = [tuple(weave.data[li].uv) for li in loops]
+    for poly, (corners, uvs) in zip(mesh.polygons, quads):
         size = lookup_object.sizes[poly.index]
         if corner_frames(corners, uvs) is None:
             degenerate += 1
