@@ -51,6 +51,38 @@ def test_patch_parameters_invert_the_patch_along_the_ray(twist):
     assert other <= (0 if twist < 0.1 else 5)
 
 
+def test_patch_parameters_on_parallelograms_survive_float_rounding():
+    """A plane made in Blender is all parallelograms: g is 0 up to rounding,
+    so k2 is tiny and the far root huge. The shader picks a root by blending
+    with a 0/1 weight in float32; unclamped, that blend lost the near root
+    to cancellation and whole quads read t = 0 or 1 (issue 13: the
+    patchwork of stripes). The mirror emulates the float32 blend."""
+    rng = random.Random(11)
+    uv = [(0.0, 0.0), (0.125, 0.0), (0.125, 0.125), (0.0, 0.125)]
+    worst = 0.0
+    for _ in range(500):
+        origin = tuple(rng.uniform(-2, 2) for _ in range(3))
+        e = tuple(rng.uniform(-0.3, 0.3) for _ in range(3))
+        f = tuple(rng.uniform(-0.3, 0.3) for _ in range(3))
+        # rounding-sized twist, as a rotated plane's world corners carry
+        tw = tuple(rng.uniform(-1e-7, 1e-7) for _ in range(3))
+        c = [origin, tuple(o + a for o, a in zip(origin, e)),
+             tuple(o + a + b + w for o, a, b, w in zip(origin, e, f, tw)),
+             tuple(o + b for o, b in zip(origin, f))]
+        n = unit(tuple(L._cross(e, f)))
+        if abs(L._dot(n, n)) < 0.5:
+            continue
+        s, t = rng.random(), rng.random()
+        side = unit(tuple(rng.uniform(-1, 1) for _ in range(3)))
+        incoming = unit(tuple(a + 0.7 * b for a, b in zip(n, side)))
+        if abs(L._dot(incoming, n)) < 0.2:
+            continue
+        p = bilerp(c, s, t)
+        s2, t2 = L.patch_parameters(L.face_attributes(c, uv, 0, 8), p, incoming, rnd=L.f32)
+        worst = max(worst, abs(s2 - s), abs(t2 - t))
+    assert worst < 1e-4
+
+
 def test_triangles_differ_from_the_patch_on_a_twisted_quad():
     """Why the shader inverts the patch: the corner-interpolated (s, t) of
     Blender's triangle (0, 1, 2) misses the patch's by a visible amount."""

@@ -161,6 +161,10 @@ def _index_image(name, lookup_object, side, k):
     return image
 
 
+def _clamp(g, value, lo, hi, column):
+    return g.math("MAXIMUM", g.math("MINIMUM", value, hi, column=column), lo, column=column)
+
+
 def build_group(name, k, quads, sides):
     """The node group: Shader output of the lookup. sides = {"front": (atlas
     Image, index Image, width, height) or None, "back": ...}."""
@@ -201,7 +205,15 @@ def build_group(name, k, quads, sides):
     sign = g.math("MULTIPLY_ADD", g.math("GREATER_THAN", k1, 0.0, column=3), 2.0, -1.0, column=3)
     q = g.math("MULTIPLY", -0.5, g.math("MULTIPLY_ADD", sign, root, k1, column=3), column=3)
     t_near = g.math("DIVIDE", k0, q, column=3)
-    t_far = g.math("DIVIDE", q, k2, column=3)
+    # Both roots clamped to [-1, 2] before the select below: it is a blend
+    # near_ok t_near + (1 - near_ok) t_far, and on a parallelogram (g = 0 up
+    # to rounding) k2 is tiny and t_far huge, so unclamped the blend lost
+    # t_near to float cancellation and t came out 0 or 1 on whole quads
+    # (the patchwork of stripes a plane made in Blender showed). The select
+    # only ever keeps a root in [-1e-3, 1 + 1e-3], which the clamp leaves as
+    # it is.
+    t_near = _clamp(g, t_near, -1.0, 2.0, 3)
+    t_far = _clamp(g, g.math("DIVIDE", q, k2, column=3), -1.0, 2.0, 3)
     near_ok = g.math("LESS_THAN", g.math("ABSOLUTE", g.math("SUBTRACT", t_near, 0.5, column=4),
                                          column=4), 0.5 + 1e-3, column=4)
     t = g.math("ADD", g.math("MULTIPLY", near_ok, g.math("SUBTRACT", t_near, t_far, column=4),

@@ -15,6 +15,7 @@ a packed lookup (docs/lookup-format.md, version 2).
   ``(x0 + s size / W, y0 + t size / H)`` with Linear filtering.
 """
 import math
+import struct
 
 # Patch parameters (s, t) of corners 0..3 (docs/lookup-format.md).
 CORNER_ST = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
@@ -155,12 +156,21 @@ def atlas_uv(lookup_object, side, quad, node, s, t):
             1.0 - (y + size) / atlas.height + t * size / atlas.height)
 
 
+def f32(x):
+    """x rounded to float32, as the shader's Math nodes compute."""
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def _clamp(x, lo, hi):
+    return min(max(x, lo), hi)
+
+
 def _safe_div(a, b):
     # Cycles' Math node DIVIDE returns 0 for a zero divisor.
     return a / b if b != 0.0 else 0.0
 
 
-def patch_parameters(attrs, point, incoming):
+def patch_parameters(attrs, point, incoming, rnd=float):
     """(s, t) in [0, 1]^2 where the ray through `point` along unit
     `incoming` meets the patch: the shader's arithmetic."""
     e, f, g = attrs["e"], attrs["f"], attrs["g"]
@@ -174,9 +184,15 @@ def patch_parameters(attrs, point, incoming):
     k0 = c(h, e)
     root = math.sqrt(max(k1 * k1 - 4.0 * k0 * k2, 0.0))
     q = -0.5 * (k1 + (root if k1 > 0.0 else -root))
-    t_near = _safe_div(k0, q)   # the root that stays finite as k2 -> 0
-    t_far = _safe_div(q, k2)
-    t = t_near if abs(t_near - 0.5) < 0.5 + 1e-3 else t_far
+    # Both roots clamped to [-1, 2] first: the shader selects between them
+    # by blending with a 0/1 weight, which loses t_near to cancellation when
+    # t_far is huge (k2 ~ 0, a parallelogram up to rounding); clamped, the
+    # blend is exact to float precision. `rnd` rounds each step of the
+    # blend: f32 to emulate the shader's float32 Math nodes.
+    t_near = _clamp(_safe_div(k0, q), -1.0, 2.0)  # the root that stays finite as k2 -> 0
+    t_far = _clamp(_safe_div(q, k2), -1.0, 2.0)
+    near_ok = 1.0 if abs(t_near - 0.5) < 0.5 + 1e-3 else 0.0
+    t = rnd(rnd(near_ok * rnd(t_near - t_far)) + t_far)
     t = min(max(t, 0.0), 1.0)
 
     def perp(a):
