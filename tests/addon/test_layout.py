@@ -33,7 +33,7 @@ def test_patch_parameters_invert_the_patch_along_the_ray(twist):
     other = 0
     for _ in range(500):
         c = random_quad(rng, twist)
-        attrs = L.face_attributes(c, uv, 3, 8)
+        attrs = L.face_attributes(c, uv, 3)
         s, t = rng.random(), rng.random()
         incoming = unit((rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(0.3, 1)))
         offset = rng.uniform(-0.1, 0.1)
@@ -78,7 +78,7 @@ def test_patch_parameters_on_parallelograms_survive_float_rounding():
         if abs(L._dot(incoming, n)) < 0.2:
             continue
         p = bilerp(c, s, t)
-        s2, t2 = L.patch_parameters(L.face_attributes(c, uv, 0, 8), p, incoming, rnd=L.f32)
+        s2, t2 = L.patch_parameters(L.face_attributes(c, uv, 0), p, incoming, rnd=L.f32)
         worst = max(worst, abs(s2 - s), abs(t2 - t))
     assert worst < 1e-4
 
@@ -96,7 +96,7 @@ def test_triangles_differ_from_the_patch_on_a_twisted_quad():
     b2 = ((x1 - x0) * (p[1] - y0) - (p[0] - x0) * (y1 - y0)) / det
     s_tri, t_tri = b1 + b2, b2  # corners' (s, t): 0 (0,0), 1 (1,0), 2 (1,1)
     assert abs(s_tri - s) + abs(t_tri - t) > 0.02
-    attrs = L.face_attributes(c, [(0, 0), (1, 0), (1, 1), (0, 1)], 0, 4)
+    attrs = L.face_attributes(c, [(0, 0), (1, 0), (1, 1), (0, 1)], 0)
     s2, t2 = L.patch_parameters(attrs, p, (0.0, 0.0, 1.0))
     assert (s2, t2) == pytest.approx((s, t), abs=1e-9)
 
@@ -110,7 +110,7 @@ def test_frame_matches_patch_frame_and_is_orthonormal():
         for _ in range(200):
             c = random_quad(rng, 0.2)
             s, t = rng.random(), rng.random()
-            attrs = L.face_attributes(c, uv, 0, 4)
+            attrs = L.face_attributes(c, uv, 0)
             tan, n = L.frame_from_attributes(attrs, s, t)
             tan2, n2 = L.patch_frame(c, uv, s, t)
             assert tan == pytest.approx(tan2, abs=1e-12)
@@ -131,7 +131,7 @@ def test_atlas_uv_addresses_texel_centres_as_the_format_says():
     t = 1 - (b + .5)/size, and is atlas pixel (x + a, y + b), rows from the
     top (docs/lookup-format.md); as a UV with a bottom-left origin that is
     ((x + a + .5)/W, 1 - (y + b + .5)/H). The index image holds the square's
-    origin the shader adds (s, t) x size to."""
+    origin the shader adds (s, t) x size to, and the size (0: not baked)."""
     from clothbake.core.manifest import LookupObject, SideAtlas
     k, w, h = 2, 40, 20
     squares = {(1, 6): (7, 3), (0, 0): (1, 1)}  # (quad 1, back node 6) at (7, 3)
@@ -145,9 +145,11 @@ def test_atlas_uv_addresses_texel_centres_as_the_format_says():
         assert v == pytest.approx(1 - (3 + b + 0.5) / h)
     pixels = L.index_pixels(obj, 1, k)  # back side: nodes 4..7 are columns 0..3
     row = 1 * k * k * 4                 # quad 1
-    assert pixels[row + 2 * 4: row + 3 * 4] == pytest.approx([7 / w, 1 - (3 + 10) / h, 1, 1])
+    assert pixels[row + 2 * 4: row + 3 * 4] == pytest.approx([7 / w, 1 - (3 + 10) / h, 10, 1])
     assert pixels[row: row + 4] == [0, 0, 0, 1]            # (1, 4) not baked
-    assert L.index_pixels(obj, 0, k)[0:4] == pytest.approx([1 / w, 1 - 5 / h, 1, 1])
+    assert L.index_pixels(obj, 0, k)[0:4] == pytest.approx([1 / w, 1 - 5 / h, 4, 1])
+    # a quad Blender finds degenerate reads as not baked
+    assert L.index_pixels(obj, 1, k, hidden={1})[row + 2 * 4: row + 3 * 4] == [0, 0, 0, 1]
 
 
 def test_degenerate_quad_has_no_frame():

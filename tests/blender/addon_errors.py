@@ -144,6 +144,24 @@ def main():
            "two_bad: mesh 'two_bad' has 2 faces that are not quads (first: face 0, 3 corners); "
            "clothbake needs quads (4 corners)", "a. apply to a mesh with two bad faces")
     bpy.data.objects.remove(two_bad)
+    # A quad mesh whose modifier makes triangles (issue 13: bake and apply
+    # take the mesh Cycles renders): the refusal names the modifier.
+    tri_mod = grid_mesh("tri_mod", [(0, 1, 4, 3), (1, 2, 5, 4)])
+    tri_mod.modifiers.new("Triangulate", "TRIANGULATE")
+    settings.bake_dir = os.path.join(TMP, "bake_tri_mod")
+    expect(bpy.ops.clothbake.bake,
+           "object 'tri_mod': face 0 has 3 corners (4 of 4 faces are not quads); the Triangulate "
+           "modifier 'Triangulate' makes them; clothbake needs quads (4 corners)",
+           "a. bake of a quad mesh under a Triangulate modifier")
+    check(not os.path.exists(settings.bake_dir), "a. the refused bake wrote nothing")
+    settings.bake_dir = slab_bake
+    expect(bpy.ops.clothbake.apply,
+           "tri_mod: mesh 'tri_mod' has 4 faces that are not quads (first: face 0, 3 corners); "
+           "the Triangulate modifier 'Triangulate' makes them; clothbake needs quads "
+           "(4 corners)", "a. apply to a quad mesh under a Triangulate modifier")
+    check([m.name for m in tri_mod.modifiers] == ["Triangulate"] and
+          tri_mod.modifiers[0].show_viewport, "a. the refused apply left the modifiers as they were")
+    bpy.data.objects.remove(tri_mod)
     slab.clothbake.is_cloth = True
 
     # -- b. the bake folder and its manifest ------------------------------------

@@ -33,21 +33,11 @@ import bpy
 
 from ..core import directions, mesh_summary
 from ..core.errors import ClothbakeError
-from ..core.layout import corner_frames, face_attributes, index_pixels
+from ..core.layout import corner_frames, index_pixels
 from ..core.manifest import read_manifest
+from . import evaluated_mesh, patch_nodes
 from .graph import Graph
-
-ATTR_PREFIX = "clothbake_"
-FACE_ATTRS = ("p0", "e", "f", "g", "ue", "uf", "ug", "square")
-
-
-def _weave_uv_layer(mesh):
-    """The UV map the weave (and so the frame) follows: the render-active one."""
-    for layer in mesh.uv_layers:
-        if layer.active_render:
-            return layer
-    return mesh.uv_layers[0] if len(mesh.uv_layers) else None
-
+from .patch_nodes import ATTR_PREFIX, FACE_ATTRS
 
 def _count(n, noun):
     return f"{n} {noun}" + ("" if n == 1 else "s")
@@ -69,62 +59,40 @@ def pick_lookup_object(lookup, obj):
                          os.path.join(lookup.folder, "manifest.json"), "objects")
 
 
-def write_mesh_layers(obj, lookup, lookup_object):
-    """Writes the per-face attributes the shader reads (clothbake.core.layout
-    face_attributes, world space). Refuses meshes that do not match the
-    lookup (face count, non-quads, no UVs) before changing anything."""
-    mesh = obj.data
+def check_mesh(obj, lookup, lookup_object):
+    """Refuses a mesh that cannot show the lookup: its render mesh (after
+    modifiers, evaluated_mesh) must be quads with UVs, as many as the
+    lookup's object has, and match the baked mesh's summary. Returns the
+    RenderMesh. Changes nothing."""
     manifest = os.path.join(lookup.folder, "manifest.json")
+    rm = evaluated_mesh.render_mesh(obj)
     # Non-quads first: whatever lookup is chosen, such a mesh cannot carry one.
-    bad = [p.index for p in mesh.polygons if p.loop_total != 4]
+    bad = evaluated_mesh.non_quads(rm)
     if bad:
         what = "1 face that is not a quad" if len(bad) == 1 else \
             f"{len(bad)} faces that are not quads"
         raise ClothbakeError(f"mesh '{obj.name}' has {what} (first: face {bad[0]}, "
-                             f"{mesh.polygons[bad[0]].loop_total} corners); clothbake needs quads "
-                             "(4 corners)")
-    if len(mesh.polygons) != lookup_object.quads:
-        raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(mesh.polygons), 'face')}; the "
-                             f"lookup's object '{lookup_object.name}' has "
+                             f"{len(rm.faces[bad[0]])} corners){evaluated_mesh.blame(obj, rm)}; "
+                             "clothbake needs quads (4 corners)")
+    if len(rm.faces) != lookup_object.quads:
+        mods = evaluated_mesh.modifier_list(obj)
+        after = f" after its modifiers ({mods})" if mods else ""
+        raise ClothbakeError(f"mesh '{obj.name}' has {_count(len(rm.faces), 'face')}{after}; "
+                             f"the lookup's object '{lookup_object.name}' has "
                              f"{_count(lookup_object.quads, 'quad')} "
-                             "(was it baked from another mesh?)", manifest,
-                             f"objects[{lookup_object.index}].quads")
-    weave = _weave_uv_layer(mesh)
-    if weave is None:
-        raise ClothbakeError(f"mesh '{obj.name}' has no UV map; the weave follows the UVs")
-
-    # Each face's world corners and UVs, read once: the mesh check and the
-    # attributes both use them.
-    to_world = obj.matrix_world
-    quads = []
-    for poly in mesh.polygons:
-        loops = list(poly.loop_indices)
-        quads.append(([tuple(to_world @ mesh.vertices[mesh.loops[li].vertex_index].co)
-                       for li in loops], [tuple(weave.data[li].uv) for li in loops]))
+                             "(was it baked from another mesh?)",
+                             manifest, f"objects[{lookup_object.index}].quads")
+    if rm.face_uvs is None:
+        raise ClothbakeError(f"mesh '{obj.name}' has no UV map{evaluated_mesh.blame(obj, rm)}; "
+                             "the weave follows the UVs")
     if lookup_object.mesh is not None:
-        differs = mesh_summary.difference(lookup_object.mesh, mesh_summary.summarize(quads))
+        differs = mesh_summary.difference(lookup_object.mesh, mesh_summary.summarize(rm.quads()))
         if differs:
             raise ClothbakeError(f"mesh '{obj.name}' is not the mesh the lookup's object "
                                  f"'{lookup_object.name}' was baked from: {differs} (was it "
                                  "baked from another mesh, or has this one moved since? bake "
                                  "again)", manifest, f"objects[{lookup_object.index}].mesh")
-    values = {name: [] for name in FACE_ATTRS}
-    degenerate = 0
-    for poly, (corners, uvs) in zip(mesh.polygons, quads):
-        size = lookup_object.sizes[poly.index]
-        if corner_frames(corners, uvs) is None:
-            degenerate += 1
-            size = 0  # texels multiplied by the unbaked flag: transparent
-        attrs = face_attributes(corners, uvs, poly.index, size)
-        for name in FACE_ATTRS:
-            values[name].extend(attrs[name])
-    for name in FACE_ATTRS:
-        full = ATTR_PREFIX + name
-        if full in mesh.attributes:
-            mesh.attributes.remove(mesh.attributes[full])
-        mesh.attributes.new(full, "FLOAT_VECTOR", "FACE").data.foreach_set("vector", values[name])
-    mesh.update()
-    return degenerate
+    return rm
 
 
 def _load_image(path):
@@ -142,7 +110,7 @@ def _load_image(path):
     return image
 
 
-def _index_image(name, lookup_object, side, k):
+def _index_image(name, lookup_object, side, k, hidden=()):
     """The side's index image (layout.index_pixels), made in memory and
     packed into the .blend so a saved file keeps it. Float32, Closest: it
     holds addresses, not colours."""
@@ -155,10 +123,17 @@ def _index_image(name, lookup_object, side, k):
     image.alpha_mode = "CHANNEL_PACKED"
     if hasattr(image, "use_half_precision"):
         image.use_half_precision = False
-    image.pixels.foreach_set(index_pixels(lookup_object, side, k))
+    image.pixels.foreach_set(index_pixels(lookup_object, side, k, hidden))
     image.update()
     image.pack()
     return image
+
+
+def _transform(g, vector, kind, source, target, column):
+    n = g.node("ShaderNodeVectorTransform", column, vector_type=kind, convert_from=source,
+               convert_to=target)
+    g.feed(n.inputs["Vector"], vector)
+    return n.outputs["Vector"]
 
 
 def _clamp(g, value, lo, hi, column):
@@ -178,10 +153,14 @@ def build_group(name, k, quads, sides):
     g = Graph(group)
 
     # 0. Inputs: the shading point, the unit direction toward the camera and
-    # the face's patch (world space).
+    # the face's patch. The patch is in object space (patch_nodes), so the
+    # point and the direction move there for step 1; an affine map keeps the
+    # ray's crossing with the patch at the same (s, t).
     geometry = g.node("ShaderNodeNewGeometry", 0)
-    point = geometry.outputs["Position"]
-    incoming = geometry.outputs["Incoming"]
+    point = _transform(g, geometry.outputs["Position"], "POINT", "WORLD", "OBJECT", 0)
+    incoming_world = geometry.outputs["Incoming"]
+    incoming = g.vmath("NORMALIZE", _transform(g, incoming_world, "VECTOR", "WORLD", "OBJECT", 0),
+                       column=0)
     attr = {name: g.node("ShaderNodeAttribute", 0, attribute_name=ATTR_PREFIX + name,
                          attribute_type="GEOMETRY", label=name).outputs["Vector"]
             for name in FACE_ATTRS}
@@ -231,8 +210,11 @@ def build_group(name, k, quads, sides):
                g.vmath("DOT_PRODUCT", d2, d2, column=7), column=7, clamp=True)
 
     # 2. The local frame at (s, t) (layout.frame_from_attributes) and the
-    # view direction in it.
-    pt = g.vmath("ADD", f, g.scale(gt, s, 8), column=8)           # dP/dt at s
+    # view direction in it, in world space: the patch's derivatives move
+    # back there (angles are not kept by a non-uniform scale).
+    pt = _transform(g, g.vmath("ADD", f, g.scale(gt, s, 8), column=8), "VECTOR", "OBJECT",
+                    "WORLD", 8)                                   # dP/dt at s
+    ps = _transform(g, ps, "VECTOR", "OBJECT", "WORLD", 8)
     normal = g.vmath("NORMALIZE", g.vmath("CROSS_PRODUCT", ps, pt, column=8), column=8)
     us_x, us_y, _ = g.separate(g.vmath("ADD", attr["ue"], g.scale(attr["ug"], t, 8), column=8), 9)
     ut_x, ut_y, _ = g.separate(g.vmath("ADD", attr["uf"], g.scale(attr["ug"], s, 8), column=8), 9)
@@ -244,9 +226,9 @@ def build_group(name, k, quads, sides):
     tangent = g.vmath("NORMALIZE", g.vmath("SUBTRACT", dp_du, g.scale(normal, along_n, 11),
                                            column=11), column=11)
     bitangent = g.vmath("CROSS_PRODUCT", normal, tangent, column=12)
-    x = g.vmath("DOT_PRODUCT", incoming, tangent, column=12)
-    y = g.vmath("DOT_PRODUCT", incoming, bitangent, column=12)
-    z = g.vmath("DOT_PRODUCT", incoming, normal, column=12)
+    x = g.vmath("DOT_PRODUCT", incoming_world, tangent, column=12)
+    y = g.vmath("DOT_PRODUCT", incoming_world, bitangent, column=12)
+    z = g.vmath("DOT_PRODUCT", incoming_world, normal, column=12)
     side = g.math("LESS_THAN", z, 0.0, column=13)
 
     # 3. Hemi-octahedral (u, v), grid position, nodes and weights.
@@ -271,7 +253,7 @@ def build_group(name, k, quads, sides):
 
     # 4. Per side and node: the square's origin from the index image (pixel
     # (node, quad), Closest), then the atlas at origin + (s, t) size / (W, H).
-    quad, size, _ = g.separate(attr["square"], column=16)
+    quad, _, _ = g.separate(attr["face"], column=16)
     index_v = g.math("MULTIPLY", g.math("ADD", quad, 0.5, column=17), 1.0 / max(1, quads),
                      column=17)
     index_uv = {}
@@ -286,17 +268,19 @@ def build_group(name, k, quads, sides):
         if entry is None:
             return (0.0, 0.0, 0.0, 1.0), 0.0
         atlas, index, width, height = entry
-        du = g.math("MULTIPLY", size, 1.0 / width, column=column)
-        dv = g.math("MULTIPLY", size, 1.0 / height, column=column)
         colors, alphas = {}, {}
         for key, vec in index_uv.items():
             where = g.node("ShaderNodeTexImage", column, image=index, interpolation="Closest",
                            extension="EXTEND", label="square origin")
             g.feed(where.inputs["Vector"], vec)
-            x0, y0, baked = g.separate(where.outputs["Color"], column=column + 1)
-            uv = g.combine(g.math("MULTIPLY_ADD", s, du, x0, column=column + 1),
-                           g.math("MULTIPLY_ADD", t, dv, y0, column=column + 1),
-                           column=column + 1)
+            x0, y0, size = g.separate(where.outputs["Color"], column=column + 1)
+            baked = g.math("GREATER_THAN", size, 0.5, column=column + 1)
+            uv = g.combine(
+                g.math("MULTIPLY_ADD", s, g.math("MULTIPLY", size, 1.0 / width, column=column + 1),
+                       x0, column=column + 1),
+                g.math("MULTIPLY_ADD", t, g.math("MULTIPLY", size, 1.0 / height,
+                                                 column=column + 1), y0, column=column + 1),
+                column=column + 1)
             tex = g.node("ShaderNodeTexImage", column + 2, image=atlas, interpolation="Linear",
                          extension="EXTEND")
             g.feed(tex.inputs["Vector"], uv)
@@ -330,8 +314,8 @@ def build_group(name, k, quads, sides):
 
 
 def apply_lookup(obj, folder):
-    """Applies the lookup in `folder` to mesh object `obj`: mesh layers, the
-    node group and a material. Returns (material, notes); raises
+    """Applies the lookup in `folder` to mesh object `obj`: the patch
+    modifier (patch_nodes), the node group and a material. Returns (material, notes); raises
     ClothbakeError for a missing folder, a broken manifest or a mismatched
     mesh, before touching the object."""
     if obj is None or obj.type != "MESH":
@@ -342,13 +326,16 @@ def apply_lookup(obj, folder):
                              f"{lookup.direction_map} (bake with --direction-map hemi-octahedral)",
                              os.path.join(lookup.folder, "manifest.json"), "direction_map.type")
     lobj = pick_lookup_object(lookup, obj)
-    degenerate = write_mesh_layers(obj, lookup, lobj)
+    rm = check_mesh(obj, lookup, lobj)
+    # Faces Blender finds degenerate stay transparent, whatever was baked.
+    degenerate = {q for q, (corners, uvs) in enumerate(rm.quads())
+                  if corner_frames(corners, uvs) is None}
     sides = {}
     for side, key in enumerate(("front", "back")):
         atlas = lobj.sides[key]
         sides[key] = None if atlas is None else (
             _load_image(atlas.path),
-            _index_image(f"clothbake {obj.name} {key} index", lobj, side, lookup.k),
+            _index_image(f"clothbake {obj.name} {key} index", lobj, side, lookup.k, degenerate),
             atlas.width, atlas.height)
     group = build_group(f"clothbake {obj.name}", lookup.k, lobj.quads, sides)
 
@@ -366,10 +353,16 @@ def apply_lookup(obj, folder):
     if hasattr(material, "shadow_method"):
         material.shadow_method = "NONE"
     material["clothbake_lookup"] = lookup.folder
+    # Attributes an older add-on wrote onto the base mesh would be copied
+    # onto other faces by modifiers; the patch modifier writes them now.
+    for name in FACE_ATTRS + ("square",):
+        if ATTR_PREFIX + name in obj.data.attributes:
+            obj.data.attributes.remove(obj.data.attributes[ATTR_PREFIX + name])
+    patch_nodes.attach(obj, rm.uv_name)
     obj.data.materials.clear()
     obj.data.materials.append(material)
     obj["clothbake_lookup"] = lookup.folder
     notes = []
     if degenerate:
-        notes.append(f"{degenerate} degenerate faces left transparent")
+        notes.append(f"{len(degenerate)} degenerate faces left transparent")
     return material, notes

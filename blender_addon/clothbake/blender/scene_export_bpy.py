@@ -4,9 +4,9 @@ clothbake.core.scene_export, which builds and writes the scene.
 
 What is exported: the scene camera (perspective, no lens shift), every
 render-visible sun and point light, every mesh object whose clothbake
-"Cloth" box is ticked (its base mesh in world space, modifiers not applied,
-faces and corners in Blender's order: face q is the lookup's quad q; the
-render-active UV map), the world's background colour and scene.clothbake's
+"Cloth" box is ticked (the mesh Cycles renders: after its modifiers, at
+their render settings, in world space, faces and corners in Blender's
+order: face q is the lookup's quad q; the render-active UV map), the world's background colour and scene.clothbake's
 reference render settings. Coordinates are written as they are (no axis
 conversion), as import reads them.
 """
@@ -16,6 +16,7 @@ import re
 from ..core import scene_export
 from ..core.errors import ClothbakeError
 from ..core.scene import load_scene
+from . import evaluated_mesh
 
 _LIGHT_NAME = re.compile(r"^clothbake light (\d+)$")
 
@@ -73,21 +74,19 @@ def _background(scene):
 
 
 def mesh_data(obj):
-    """QuadMeshData of a cloth object: world positions, faces in order."""
-    mesh = obj.data
-    matrix = obj.matrix_world
-    positions = [tuple(matrix @ v.co) for v in mesh.vertices]
-    faces = [tuple(p.vertices) for p in mesh.polygons]
-    layer = None
-    for candidate in mesh.uv_layers:
-        if candidate.active_render:
-            layer = candidate
-    if layer is None and len(mesh.uv_layers):
-        layer = mesh.uv_layers[0]
-    face_uvs = None
-    if layer is not None:
-        face_uvs = [[tuple(layer.data[li].uv) for li in p.loop_indices] for p in mesh.polygons]
-    return scene_export.quad_mesh(obj.name, positions, faces, face_uvs)
+    """QuadMeshData of a cloth object: the mesh Cycles renders (after its
+    modifiers, at their render settings; evaluated_mesh), world positions,
+    faces in order."""
+    rm = evaluated_mesh.render_mesh(obj)
+    try:
+        return scene_export.quad_mesh(obj.name, rm.positions, rm.faces, rm.face_uvs)
+    except ClothbakeError as e:
+        why = evaluated_mesh.blame(obj, rm)
+        if not why:
+            raise
+        raise ClothbakeError(e.message.replace("; clothbake", why + "; clothbake", 1)
+                             if "; clothbake" in e.message else e.message + why,
+                             e.path, e.field) from None
 
 
 def build_model(scene):

@@ -101,9 +101,10 @@ def corner_frames(corners_world, corners_uv):
 # face_attributes() is what the mesh stores per face; patch_parameters()
 # is the node tree's arithmetic, step for step, so tests can check it here.
 
-def face_attributes(corners_world, corners_uv, quad, size):
-    """Per-face vectors the shader reads: the patch (p0, e, f, g), its UV
-    Jacobian terms (ue, uf, ug, as (u, v, 0)) and (quad, size, 0)."""
+def face_attributes(corners_world, corners_uv, face):
+    """Per-face vectors the shader reads, as the patch modifier
+    (blender/patch_nodes.py) stores them: the patch (p0, e, f, g), its UV
+    Jacobian terms (ue, uf, ug, as (u, v, 0)) and (face index, 0, 0)."""
     p = corners_world
     uv = corners_uv
     e = _sub(p[1], p[0])
@@ -113,19 +114,20 @@ def face_attributes(corners_world, corners_uv, quad, size):
     uf = (uv[3][0] - uv[0][0], uv[3][1] - uv[0][1], 0.0)
     ug = (uv[0][0] - uv[1][0] + uv[2][0] - uv[3][0], uv[0][1] - uv[1][1] + uv[2][1] - uv[3][1], 0.0)
     return {"p0": tuple(p[0]), "e": e, "f": f, "g": g, "ue": ue, "uf": uf, "ug": ug,
-            "square": (float(quad), float(size), 0.0)}
+            "face": (float(face), 0.0, 0.0)}
 
 
-def index_pixels(lookup_object, side, k):
+def index_pixels(lookup_object, side, k, hidden=()):
     """RGBA float pixels (rows bottom-up, as Blender stores images) of the
     side's index image: K^2 columns (the side's nodes, j K + i), one row per
-    quad. Pixel (n, q) = (x0, y0, baked, 1): the square of (q, n) starts at
+    quad. Pixel (n, q) = (x0, y0, size, 1): the square of (q, n) starts at
     UV (x0, y0) of the atlas (its bottom-left corner: the atlas's rows run
-    top-down, UVs bottom-up), and baked is 1 if it holds values. Unbaked
-    pairs read (0, 0, 0, 1): the shader multiplies their texels by 0, so
-    they are transparent, as in clothbake's lookup-render (which skips the
-    whole lookup; the two differ only where some of the four nodes are
-    baked and some not, which a bake never plans)."""
+    top-down, UVs bottom-up) and is `size` texels wide, 0 when the pair is
+    not baked (or quad q is in `hidden`). The shader multiplies texels of
+    size-0 pairs by 0, so they are transparent, as in clothbake's
+    lookup-render (which skips the whole lookup; the two differ only where
+    some of the four nodes are baked and some not, which a bake never
+    plans)."""
     name = ("front", "back")[side]
     atlas = lookup_object.sides[name]
     per_side = k * k
@@ -136,12 +138,12 @@ def index_pixels(lookup_object, side, k):
             at = (q * per_side + local) * 4
             pixels[at + 3] = 1.0
             node = side * per_side + local
-            if atlas is None or not lookup_object.is_baked(q, node):
+            if atlas is None or q in hidden or not lookup_object.is_baked(q, node):
                 continue
             x, y = atlas.squares[q, node]
             pixels[at] = x / atlas.width
             pixels[at + 1] = 1.0 - (y + size) / atlas.height
-            pixels[at + 2] = 1.0
+            pixels[at + 2] = float(size)
     return pixels
 
 
