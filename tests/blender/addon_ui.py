@@ -219,6 +219,30 @@ def main():
     expect_error(bpy.ops.clothbake.import_scene, ["nope.json", "cannot read the scene"],
                  "import of a missing scene", filepath=os.path.join(TMP, "nope.json"))
 
+    # -- no denoiser (issue 13): the panel's warning and its button ------------
+    from clothbake.blender.operators import denoiser_missing
+    import _cycles
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.use_denoising = True
+    scene.cycles.samples = 1
+    scene.render.resolution_percentage = 10
+    if not _cycles.with_openimagedenoise:
+        check(denoiser_missing(scene), "no denoiser: the panel's warning is shown")
+        try:
+            bpy.ops.render.render()
+            failed = ""
+        except RuntimeError as e:
+            failed = str(e)
+        check("OpenImageDenoise" in failed, f"no denoiser: F12 with denoising on fails ({failed})")
+        check(bpy.ops.clothbake.denoising_off() == {"FINISHED"} and
+              not scene.cycles.use_denoising and not denoiser_missing(scene),
+              "no denoiser: the button turns render denoising off and the warning goes")
+        check(bpy.ops.render.render() == {"FINISHED"}, "no denoiser: F12 then renders")
+    else:
+        check(not denoiser_missing(scene), "with a denoiser no warning is shown")
+    scene.render.resolution_percentage = 100
+
     # -- unregister --------------------------------------------------------------
     addon_utils.disable("clothbake", default_set=True, handle_error=None)
     check(not hasattr(bpy.types, "CLOTHBAKE_PT_object") and

@@ -471,5 +471,32 @@ class CLOTHBAKE_OT_compare(bpy.types.Operator):
         return {"FINISHED"}
 
 
+# -- Cycles without a denoiser ---------------------------------------------------
+
+def denoiser_missing(scene):
+    """True when F12 would fail: Cycles renders with denoising on, and this
+    Blender was built without OpenImageDenoise (Debian's 3.4 is), so the
+    render stops with "Build without OpenImageDenoiser"."""
+    if scene.render.engine != "CYCLES" or not scene.cycles.use_denoising:
+        return False
+    try:
+        import _cycles
+    except ImportError:
+        return False
+    return not getattr(_cycles, "with_openimagedenoise", True)
+
+
+class CLOTHBAKE_OT_denoising_off(bpy.types.Operator):
+    """Turn Cycles' render denoising off: this Blender has no denoiser, so F12 fails with it on"""
+    bl_idname = "clothbake.denoising_off"
+    bl_label = "Turn render denoising off"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        context.scene.cycles.use_denoising = False
+        self.report({"INFO"}, "Cycles render denoising is off (this Blender has no denoiser)")
+        return {"FINISHED"}
+
+
 CLASSES = (CLOTHBAKE_OT_import_scene, CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_bake,
-           CLOTHBAKE_OT_apply, CLOTHBAKE_OT_compare)
+           CLOTHBAKE_OT_apply, CLOTHBAKE_OT_compare, CLOTHBAKE_OT_denoising_off)

@@ -4,7 +4,8 @@ import bpy
 
 from ..core.cloth_fields import DRAFT
 from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_compare,
-                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene)
+                        CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_export_scene,
+                        CLOTHBAKE_OT_import_scene, denoiser_missing)
 
 
 class _ObjectPanel:
@@ -27,6 +28,12 @@ class CLOTHBAKE_PT_object(_ObjectPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
+        if denoiser_missing(context.scene):
+            # The first F12 after Apply would fail, and look like our fault.
+            row = layout.row()
+            row.alert = True
+            row.label(text="No denoiser in this Blender: F12 fails", icon="ERROR")
+            row.operator(CLOTHBAKE_OT_denoising_off.bl_idname, text="Turn off")
         cloth = context.object.clothbake
         if not cloth.is_cloth:
             layout.label(text="Tick the box to make this quad mesh a clothbake cloth",
