@@ -28,12 +28,6 @@ class CLOTHBAKE_PT_object(_ObjectPanel, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.use_property_decorate = False
-        if denoiser_missing(context.scene):
-            # The first F12 after Apply would fail, and look like our fault.
-            row = layout.row()
-            row.alert = True
-            row.label(text="No denoiser in this Blender: F12 fails", icon="ERROR")
-            row.operator(CLOTHBAKE_OT_denoising_off.bl_idname, text="Turn off")
         cloth = context.object.clothbake
         if not cloth.is_cloth:
             layout.label(text="Tick the box to make this quad mesh a clothbake cloth",
@@ -122,6 +116,14 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
         row.operator(CLOTHBAKE_OT_compare.bl_idname, icon="IMAGE_REFERENCE")
         if running and settings.bake_running:
             layout.prop(settings, "bake_progress", text="Baking (Esc cancels)", slider=True)
+        if denoiser_missing(context.scene):
+            # The first F12 after Apply would fail, and look like our fault;
+            # said here, under Apply, where the user is.
+            box = layout.box()
+            box.alert = True
+            box.label(text="No denoiser here: F12 fails",
+                      icon="ERROR")
+            box.operator(CLOTHBAKE_OT_denoising_off.bl_idname, icon="CHECKMARK")
         if settings.bake_status:
             layout.label(text="Bake: " + settings.bake_status)
         if settings.compare_status:

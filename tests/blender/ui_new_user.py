@@ -1,0 +1,218 @@
+"""The new user's first minutes, in Blender's real window (issue 13), driven
+step by step from a timer so the window draws between steps:
+
+  1. the add-on installed from its zip (Preferences > Add-ons > Install)
+     and enabled, pointed at the program under test;
+  2. Blender's default scene: the cube deleted, a 2 x 2 plane added
+     (rotation (0.9, 0, 0.3)) and subdivided with 7 cuts in Edit Mode,
+     'Cloth' ticked, a bake folder set, every other setting at the panel's
+     default;
+  3. Bake pressed (invoked as the button does: modal, in the background,
+     with progress), waited for;
+  4. Apply; the render engine switched to Cycles: the panel warns that this
+     Blender has no denoiser; its button pressed;
+  5. F12 (render.render invoked as the key does), waited for, saved;
+  6. Compare.
+
+A screenshot of the window after each step goes to OUT_DIR/NN_step.png.
+Each step's outcome is checked; the shell script (ui_new_user.sh) then
+compares Compare's Cycles render with `clothbake lookup-render`.
+
+    DISPLAY=:N blender --factory-startup -P ui_new_user.py -- \
+        CLOTHBAKE_EXE ADDON_ZIP WORK_DIR OUT_DIR
+"""
+import math
+import os
+import sys
+import time
+import traceback
+
+import bpy
+
+argv = sys.argv[sys.argv.index("--") + 1:]
+CLOTHBAKE, ZIP, WORK, OUT = (os.path.abspath(a) for a in argv[:4])
+failures = []
+bpy.context.preferences.view.show_splash = False
+
+
+def check(condition, what):
+    print(("ok   " if condition else "FAIL ") + what, flush=True)
+    if not condition:
+        failures.append(what)
+
+
+def window_area(kind):
+    win = bpy.context.window_manager.windows[0]
+    for area in win.screen.areas:
+        if area.type == kind:
+            return win, area
+    return win, None
+
+
+def region(area, kind="WINDOW"):
+    return next(r for r in area.regions if r.type == kind)
+
+
+def shot(name, newest_window=False):
+    """Screenshot of the main window (scrolled to the clothbake panel), or
+    of the newest one (F12's render window, Compare's sheet)."""
+    windows = bpy.context.window_manager.windows
+    win = windows[-1] if newest_window else windows[0]
+    if not newest_window:
+        _, props = window_area("PROPERTIES")
+        if props is not None:
+            with bpy.context.temp_override(window=win, area=props, region=region(props)):
+                for _ in range(6):
+                    bpy.ops.view2d.scroll_down(page=True)
+    for area in win.screen.areas:
+        if newest_window and area.type == "IMAGE_EDITOR":
+            with bpy.context.temp_override(window=win, area=area, region=region(area)):
+                bpy.ops.image.view_all(fit_view=True)
+    with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
+        bpy.ops.screen.screenshot(filepath=os.path.join(OUT, name + ".png"))
+
+
+def in_properties(op, *args, **kwargs):
+    """Runs an operator as a button of the Properties editor does."""
+    win, area = window_area("PROPERTIES")
+    with bpy.context.temp_override(window=win, area=area, region=region(area)):
+        return op(*args, **kwargs)
+
+
+def in_view3d(op, *args, **kwargs):
+    win, area = window_area("VIEW_3D")
+    with bpy.context.temp_override(window=win, area=area, region=region(area)):
+        return op(*args, **kwargs)
+
+
+def install():
+    result = bpy.ops.preferences.addon_install(filepath=ZIP, overwrite=True)
+    check(result == {"FINISHED"}, "1. add-on installed from the zip")
+    bpy.ops.preferences.addon_enable(module="clothbake")
+    import addon_utils
+    check(addon_utils.check("clothbake")[1], "1. add-on enabled")
+    prefs = bpy.context.preferences.addons["clothbake"].preferences
+    prefs.program = CLOTHBAKE
+
+
+def make_plane():
+    cube = bpy.data.objects.get("Cube")
+    if cube is not None:
+        bpy.data.objects.remove(cube)
+    in_view3d(bpy.ops.mesh.primitive_plane_add, size=2, rotation=(0.9, 0.0, 0.3))
+    obj = bpy.context.view_layer.objects.active
+    in_view3d(bpy.ops.object.mode_set, mode="EDIT")
+    in_view3d(bpy.ops.mesh.subdivide, number_cuts=7)
+    in_view3d(bpy.ops.object.mode_set, mode="OBJECT")
+    check(len(obj.data.polygons) == 64, "2. a plane of 64 quads made in Blender")
+    obj.clothbake.is_cloth = True
+    scene = bpy.context.scene
+    scene.render.resolution_x, scene.render.resolution_y = 480, 270
+    scene.clothbake.bake_dir = os.path.join(WORK, "bake")
+    _, props = window_area("PROPERTIES")
+    props.spaces.active.context = "OBJECT"
+
+
+def start_bake():
+    result = in_properties(bpy.ops.clothbake.bake, "INVOKE_DEFAULT")
+    check(result == {"RUNNING_MODAL"}, f"3. Bake runs in the background ({result})")
+
+
+def bake_done():
+    return not bpy.context.scene.clothbake.bake_running
+
+
+def apply_and_cycles():
+    settings = bpy.context.scene.clothbake
+    check(settings.bake_status.startswith("baked"), f"3. Bake finished: {settings.bake_status}")
+    check(in_properties(bpy.ops.clothbake.apply) == {"FINISHED"}, "4. Apply")
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 16
+    from clothbake.blender.operators import denoiser_missing
+    import _cycles
+    if not _cycles.with_openimagedenoise:
+        check(denoiser_missing(scene), "4. the panel warns: no denoiser, F12 would fail")
+
+
+def denoising_off():
+    from clothbake.blender.operators import denoiser_missing
+    scene = bpy.context.scene
+    if denoiser_missing(scene):
+        check(in_properties(bpy.ops.clothbake.denoising_off) == {"FINISHED"} and
+              not scene.cycles.use_denoising, "4. its button turns render denoising off")
+
+
+def start_render():
+    win, area = window_area("VIEW_3D")
+    with bpy.context.temp_override(window=win, area=area):
+        result = bpy.ops.render.render("INVOKE_DEFAULT")
+    check(result == {"RUNNING_MODAL"}, f"5. F12 renders ({result})")
+
+
+def render_done():
+    return not bpy.app.is_job_running("RENDER")
+
+
+def after_render():
+    image = bpy.data.images["Render Result"]
+    scene = bpy.context.scene
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    path = os.path.join(WORK, "f12.exr")
+    image.save_render(path, scene=scene)
+    check(os.path.isfile(path), "5. F12's image saved")
+
+
+def compare():
+    result = in_properties(bpy.ops.clothbake.compare)
+    settings = bpy.context.scene.clothbake
+    check(result == {"FINISHED"}, f"6. Compare: {settings.compare_status}")
+
+
+# The steps; a step that is a predicate waits until it holds (or times out).
+# ("shot", name, newest window) runs a tick after the step before it, once the
+# window has redrawn.
+STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_panel", False),
+         start_bake, ("wait", bake_done, 600), ("shot", "03_baked", False), apply_and_cycles,
+         ("shot", "04_denoiser_warning", False), denoising_off, ("shot", "05_denoising_off", False),
+         start_render, ("wait", render_done, 300),
+         after_render, ("shot", "06_f12", True), compare, ("shot", "07_compare", True)]
+state = {"i": 0, "since": time.time()}
+
+
+def tick():
+    try:
+        if state["i"] >= len(STEPS):
+            print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
+            # quit_blender exits 0 whatever happened: the shell reads this.
+            with open(os.path.join(WORK, "ui_result.txt"), "w") as f:
+                f.write("\n".join(failures) if failures else "passed")
+            bpy.ops.wm.quit_blender()
+            return None
+        step = STEPS[state["i"]]
+        if isinstance(step, tuple) and step[0] == "shot":
+            if time.time() - state["since"] < 1.5:
+                return 0.5
+            shot(step[1], newest_window=step[2])
+        elif isinstance(step, tuple):
+            _, done, limit = step
+            if not done():
+                if time.time() - state["since"] > limit:
+                    check(False, f"{done.__name__} within {limit} s")
+                    state["i"] = len(STEPS)
+                return 0.5
+        else:
+            step()
+        state["i"] += 1
+        state["since"] = time.time()
+        return 0.5
+    except Exception:
+        traceback.print_exc()
+        failures.append("exception")
+        state["i"] = len(STEPS)
+        return 0.5
+
+
+os.makedirs(OUT, exist_ok=True)
+bpy.app.timers.register(tick, first_interval=2.0)
