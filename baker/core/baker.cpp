@@ -43,6 +43,49 @@ V3f bake_direction(V3f d, int side) {
   return len > 0.0f ? V3f(d.x / len * xy, d.y / len * xy, sign * min_z) : V3f(0, 0, sign);
 }
 
+/// The view direction, in the quad's frame, that `node` is baked from.
+V3f node_to_eye(const DirectionGrid& dirs, int node) {
+  const int side = node / dirs.nodes_per_side();
+  const int rem = node % dirs.nodes_per_side();
+  return bake_direction(dirs.node_direction(side, rem % dirs.k, rem / dirs.k), side);
+}
+
+/// One march sample: a jittered point of texel (a, b)'s footprint toward
+/// `to_eye_local`, seeded by its own indices so that the result does not
+/// depend on scheduling. run_bake and the probe both go through here.
+MarchResult bake_sample(const Renderer& renderer, const BakeSample& x, int size,
+                        const V3f& to_eye_local, uint64_t seed) {
+  Rng rng(hash_key(seed, x.object, uint64_t(x.quad), uint64_t(x.a), uint64_t(x.b), uint64_t(x.node),
+                   uint64_t(x.k)));
+  const float ps = (x.a + rng.next_float()) / size;
+  const float pt = 1.0f - (x.b + rng.next_float()) / size;
+  const SurfaceFrame f = renderer.patch(x.object, x.quad).frame(ps, pt);
+  const V3f to_eye_world = f.tangent_world * to_eye_local.x + f.bitangent_world * to_eye_local.y +
+                           f.normal_world * to_eye_local.z;
+  return renderer.shade_surface(x.object, x.quad, ps, pt, -to_eye_world, rng);
+}
+
+/// Appends the samples of quad q whose indices in the plan's sequence (the
+/// quad's run starting at `begin`) are in `wanted` (sorted) from `next` on;
+/// returns the length of the quad's run.
+uint64_t locate_in_quad(const LookupTable& t, int o, int q, int spp, uint64_t begin,
+                        const std::vector<uint64_t>& wanted, size_t& next,
+                        std::vector<BakeSample>& out) {
+  const uint64_t size = uint64_t(t.sizes[q]);
+  const uint64_t per_node = size * size * uint64_t(spp);
+  std::vector<int> nodes;  // the quad's baked nodes, in ascending order
+  for (int n = 0; n < t.node_count(); ++n)
+    if (t.is_baked(q, n)) nodes.push_back(n);
+  const uint64_t end = begin + per_node * nodes.size();
+  for (; next < wanted.size() && wanted[next] < end; ++next) {
+    const uint64_t i = wanted[next] - begin;
+    const uint64_t texel = (i % per_node) / uint64_t(spp);
+    out.push_back({o, q, nodes[size_t(i / per_node)], int(texel % size), int(texel / size),
+                   int(i % uint64_t(spp))});
+  }
+  return end - begin;
+}
+
 }  // namespace
 
 BakePlan plan_bake(const Renderer& renderer, const BakeSettings& s) {
@@ -164,27 +207,15 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, cons
     tbb::parallel_for(size_t(0), jobs.size(), [&](size_t job) {
       const auto [q, b] = jobs[job];
       const int size = t.sizes[q];
-      const QuadPatch& patch = renderer.patch(int(o), q);
       uint64_t local = 0;
       for (int a = 0; a < size; ++a)
         for (int node = 0; node < nodes; ++node) {
           if (!t.is_baked(q, node)) continue;
-          const int side = node / t.dirs.nodes_per_side();
-          const int rem = node % t.dirs.nodes_per_side();
-          const V3f to_eye_local =
-              bake_direction(t.dirs.node_direction(side, rem % t.dirs.k, rem / t.dirs.k), side);
+          const V3f to_eye_local = node_to_eye(t.dirs, node);
           float sum[4] = {0, 0, 0, 0};
           for (int k = 0; k < s.spp; ++k) {
-            // A jittered point of the texel's footprint.
-            Rng rng(hash_key(s.seed, o, uint64_t(q), uint64_t(a), uint64_t(b), uint64_t(node),
-                             uint64_t(k)));
-            const float ps = (a + rng.next_float()) / size;
-            const float pt = 1.0f - (b + rng.next_float()) / size;
-            const SurfaceFrame f = patch.frame(ps, pt);
-            const V3f to_eye_world = f.tangent_world * to_eye_local.x +
-                                     f.bitangent_world * to_eye_local.y +
-                                     f.normal_world * to_eye_local.z;
-            const MarchResult m = renderer.shade_surface(int(o), q, ps, pt, -to_eye_world, rng);
+            const MarchResult m =
+                bake_sample(renderer, {int(o), q, node, a, b, k}, size, to_eye_local, s.seed);
             sum[0] += m.radiance.x;
             sum[1] += m.radiance.y;
             sum[2] += m.radiance.z;
@@ -207,6 +238,47 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan, cons
     t.fill_gutters();
   }
   return tables;
+}
+
+std::vector<BakeSample> probe_samples(const BakePlan& plan, const BakeSettings& s, uint64_t n) {
+  const uint64_t total = plan.texel_direction_samples;
+  n = std::min(n, total);
+  // One index per equal run of the sequence, at a hashed offset inside it.
+  std::vector<uint64_t> wanted(n);
+  for (uint64_t j = 0; j < n; ++j) {
+    const double u = unit_double(hash_key(s.seed, 0x70726f6265ull, j));
+    const uint64_t lo = uint64_t(double(j) * double(total) / double(n));
+    const uint64_t hi = uint64_t(double(j + 1) * double(total) / double(n));
+    wanted[j] = std::min(total - 1, lo + uint64_t(u * double(std::max<uint64_t>(1, hi - lo))));
+  }
+  std::sort(wanted.begin(), wanted.end());  // rounding could swap neighbours
+  std::vector<BakeSample> out;
+  out.reserve(n);
+  size_t next = 0;
+  uint64_t begin = 0;
+  for (size_t o = 0; o < plan.objects.size(); ++o) {
+    const LookupTable& t = plan.objects[o];
+    for (int q = 0; q < t.quad_count() && next < n; ++q)
+      if (t.quad_baked(q)) begin += locate_in_quad(t, int(o), q, s.spp, begin, wanted, next, out);
+  }
+  return out;
+}
+
+std::vector<MarchResult> evaluate_bake_samples(Renderer& renderer, const BakePlan& plan,
+                                               const BakeSettings& s,
+                                               const std::vector<BakeSample>& samples) {
+  renderer.prepare_light_caches();
+  std::vector<MarchResult> out(samples.size());
+  tbb::parallel_for(size_t(0), samples.size(), [&](size_t i) {
+    const BakeSample& x = samples[i];
+    const LookupTable& t = plan.objects[size_t(x.object)];
+    out[i] = bake_sample(renderer, x, t.sizes[x.quad], node_to_eye(t.dirs, x.node), s.seed);
+  });
+  return out;
+}
+
+uint64_t probe_bake(Renderer& renderer, const BakePlan& plan, const BakeSettings& s, uint64_t n) {
+  return evaluate_bake_samples(renderer, plan, s, probe_samples(plan, s, n)).size();
 }
 
 Renderer::HitShader lookup_shader(const Renderer& renderer, const std::vector<LookupTable>& tables,

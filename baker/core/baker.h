@@ -52,6 +52,35 @@ std::vector<LookupTable> run_bake(Renderer& renderer, const BakePlan& plan,
                                   const BakeSettings& settings,
                                   const std::function<void(double)>& progress = {});
 
+/// One march sample of a plan: texel (a, b) of a quad toward a direction
+/// node, sub-texel sample k (run_bake averages k = 0 .. spp - 1).
+struct BakeSample {
+  int object = 0, quad = 0, node = 0, a = 0, b = 0, k = 0;
+};
+
+/// `n` of the plan's march samples (all of them if it plans fewer), spread
+/// evenly over them: the planned samples, ordered by object, quad, node,
+/// texel and sample, cut into n equal runs, one sample drawn from each at a
+/// hashed offset, so that quads and nodes (grazing and steep) appear in
+/// proportion to their share of the work, without aliasing with the texel
+/// grid. Deterministic (from the seed); in that order.
+std::vector<BakeSample> probe_samples(const BakePlan& plan, const BakeSettings& settings,
+                                      uint64_t n);
+
+/// Evaluates `samples` exactly as run_bake does (same seeds, same march,
+/// light caches prepared first), in parallel; results in the same order.
+std::vector<MarchResult> evaluate_bake_samples(Renderer& renderer, const BakePlan& plan,
+                                               const BakeSettings& settings,
+                                               const std::vector<BakeSample>& samples);
+
+/// The probe behind `clothbake bake --estimate`: evaluates probe_samples(n)
+/// and returns how many it evaluated. The caller times it (the core keeps
+/// no clock) and scales by plan.texel_direction_samples / that count.
+/// Prepares the light caches first, as run_bake does: a caller timing the
+/// march alone calls renderer.prepare_light_caches() before.
+uint64_t probe_bake(Renderer& renderer, const BakePlan& plan, const BakeSettings& settings,
+                    uint64_t n);
+
 /// The shader lookup-render uses: reads `tables` the way the Blender add-on
 /// does (bilinear texels, bilinear directions). Unbaked lookups read as
 /// transparent and are counted in `misses`.

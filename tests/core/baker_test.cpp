@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -156,9 +157,9 @@ TEST(Baker, AdaptivePlanBakesOnlyWhatTheCameraSees) {
   EXPECT_LT(plan.texel_direction_samples, plan.full_texel_direction_samples);
 }
 
-TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
+/// The slab split in a 2 x 2 grid of quads, shaded with the fibre model.
+Scene four_quad_slab() {
   Scene scene = slab_scene();
-  // Four quads: split the slab in a 2 x 2 grid.
   ClothObject& obj = scene.objects[0];
   obj.mesh.positions_world.clear();
   obj.mesh.uvs.clear();
@@ -174,6 +175,11 @@ TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
       obj.mesh.quads.push_back({{a, a + 1, a + 4, a + 3}, {a, a + 1, a + 4, a + 3}});
     }
   scene.settings.shading = ShadingMode::Fiber;
+  return scene;
+}
+
+TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
+  const Scene scene = four_quad_slab();
   Renderer renderer(scene, k_budget);
   BakeSettings s;
   s.directions = 3;
@@ -203,6 +209,87 @@ TEST(Baker, QuadSubsetsShareTheLayoutAndSameBytesForAnyThreadCount) {
     ASSERT_EQ(a.size(), b.size());
     EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(Imath::half)));
   }
+}
+
+/// A probe sample's place in the plan's sequence (object 0): quad, node,
+/// texel row, texel, sample, as probe_samples orders them.
+std::tuple<int, int, int, int, int> sequence_key(const BakeSample& x) {
+  return {x.quad, x.node, x.b, x.a, x.k};
+}
+
+// The probe behind `bake --estimate` draws the number of samples asked for,
+// distinct, valid, the same each time, spread over every quad and both sides;
+// asked for more than the plan holds, it draws each planned sample once.
+TEST(BakeProbe, DrawsTheRequestedSamplesSpreadOverThePlan) {
+  const Scene scene = four_quad_slab();
+  Renderer renderer(scene, k_budget);
+  BakeSettings s;
+  s.directions = 3;
+  s.texels = 4;
+  s.spp = 2;
+  const BakePlan plan = plan_bake(renderer, s);
+  ASSERT_EQ(plan.texel_direction_samples, 4u * 18u * 16u * 2u);
+  const std::vector<BakeSample> probe = probe_samples(plan, s, 500);
+  ASSERT_EQ(probe.size(), 500u);
+  EXPECT_EQ(probe_bake(renderer, plan, s, 500), 500u);
+  int per_quad[4] = {0, 0, 0, 0}, per_side[2] = {0, 0};
+  const LookupTable& t = plan.objects[0];
+  for (size_t i = 0; i < probe.size(); ++i) {
+    const BakeSample& x = probe[i];
+    ASSERT_TRUE(x.object == 0 && x.quad >= 0 && x.quad < 4 && t.is_baked(x.quad, x.node));
+    ASSERT_TRUE(x.a >= 0 && x.a < 4 && x.b >= 0 && x.b < 4 && x.k >= 0 && x.k < 2);
+    if (i > 0) EXPECT_LT(sequence_key(probe[i - 1]), sequence_key(x)) << "sample " << i;
+    ++per_quad[x.quad];
+    ++per_side[t.side_of(x.node)];
+  }
+  for (int q = 0; q < 4; ++q) EXPECT_EQ(per_quad[q], 125) << "quad " << q;  // equal shares
+  EXPECT_NEAR(per_side[0], 250, 4);  // half the nodes are on the back
+  const std::vector<BakeSample> again = probe_samples(plan, s, 500);
+  for (size_t i = 0; i < probe.size(); ++i)
+    EXPECT_EQ(sequence_key(again[i]), sequence_key(probe[i]));
+  const std::vector<BakeSample> all = probe_samples(plan, s, 1u << 20);
+  ASSERT_EQ(all.size(), plan.texel_direction_samples);
+  for (size_t i = 1; i < all.size(); ++i) ASSERT_LT(sequence_key(all[i - 1]), sequence_key(all[i]));
+}
+
+// The probe times the bake's own work: each probe sample is exactly what
+// run_bake stores for that texel at 1 sample per texel.
+TEST(BakeProbe, EvaluatesWhatRunBakeStores) {
+  const Scene scene = four_quad_slab();
+  Renderer renderer(scene, k_budget);
+  BakeSettings s;
+  s.directions = 3;
+  s.texels = 4;
+  s.spp = 1;
+  const BakePlan plan = plan_bake(renderer, s);
+  const std::vector<LookupTable> tables = run_bake(renderer, plan, s);
+  const std::vector<BakeSample> probe = probe_samples(plan, s, 200);
+  const std::vector<MarchResult> got = evaluate_bake_samples(renderer, plan, s, probe);
+  ASSERT_EQ(got.size(), probe.size());
+  int lit = 0;
+  for (size_t i = 0; i < probe.size(); ++i) {
+    const BakeSample& x = probe[i];
+    const Imath::half* texel = tables[0].texel(x.quad, x.node, x.a, x.b);
+    EXPECT_EQ(texel[0].bits(), Imath::half(got[i].radiance.x).bits()) << "sample " << i;
+    EXPECT_EQ(texel[3].bits(), Imath::half(1.0f - got[i].transmittance).bits()) << "sample " << i;
+    lit += got[i].radiance.x > 0.0f;
+  }
+  EXPECT_GT(lit, 50);  // not a comparison of zeros
+}
+
+// Nothing planned, nothing probed: a camera that sees no quad, or n = 0.
+TEST(BakeProbe, NoPlannedWorkGivesNoSamples) {
+  Scene scene = four_quad_slab();
+  scene.camera.look_at_world = V3f(0.3f, -0.2f, 12.0f);  // away from the slab
+  Renderer renderer(scene, k_budget);
+  BakeSettings s;
+  s.adaptive = true;
+  const BakePlan plan = plan_bake(renderer, s);
+  ASSERT_EQ(plan.texel_direction_samples, 0u);
+  EXPECT_EQ(probe_bake(renderer, plan, s, 1000), 0u);
+  EXPECT_TRUE(probe_samples(plan, s, 1000).empty());
+  s.adaptive = false;
+  EXPECT_EQ(probe_bake(renderer, plan_bake(renderer, s), s, 0), 0u);
 }
 
 }  // namespace
