@@ -1,14 +1,17 @@
 // `clothbake bake SCENE.json -o BAKE_DIR`: view-dependent lookup EXRs per quad
 // texel (core/baker.h, docs/lookup-format.md), full or adaptive to the camera.
+// `--estimate` stops after step 1 with the plan and a timed estimate.
 
 #include <sys/statvfs.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 
+#include <tbb/global_control.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -32,6 +35,7 @@ struct BakeArgs {
   int threads = 0;
   double memory_gib = 0.0;
   bool quiet = false;
+  bool estimate = false;  ///< print the plan and a timed estimate instead of baking
 };
 
 void parse_quads(const std::string& text, BakeSettings& s) {
@@ -59,24 +63,30 @@ void finish_bake_args(BakeArgs& args) {
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
 }
 
-void run_bake_command(const BakeArgs& args) {
-  const auto threads = limit_threads(args.threads);
-  // Step 1: read and check everything, and refuse what cannot fit, before
-  // any output exists.
+/// What step 1 leaves for the bake: the scene, its renderer and the plan,
+/// all checked.
+struct BakeJob {
+  Scene scene;
+  std::unique_ptr<Renderer> renderer;  ///< refers to `scene`
+  BakePlan plan;
+  uint64_t bytes = 0;  ///< the lookup, uncompressed
+};
+
+/// Step 1: read and check everything, and refuse what cannot fit, before
+/// any output exists.
+void prepare_bake(const BakeArgs& args, BakeJob& job) {
   io::check_lookup_destination(args.out_dir);
   const uint64_t budget = memory_budget_bytes(args.memory_gib);
-  const Scene scene = io::load_scene(args.scene);
-  std::unique_ptr<Renderer> renderer;
-  BakePlan plan;
+  job.scene = io::load_scene(args.scene);
   try {
-    renderer = std::make_unique<Renderer>(scene, budget);
-    plan = plan_bake(*renderer, args.settings);
+    job.renderer = std::make_unique<Renderer>(job.scene, budget);
+    job.plan = plan_bake(*job.renderer, args.settings);
   } catch (const InputError& e) {
     throw e.field().rfind("--", 0) == 0 ? e : e.in_file(args.scene);
   }
-  const uint64_t bytes = io::lookup_bytes(plan.objects);
-  if (bytes > budget)
-    throw InputError("--texels", "the lookup would need " + mib(bytes) +
+  job.bytes = io::lookup_bytes(job.plan.objects);
+  if (job.bytes > budget)
+    throw InputError("--texels", "the lookup would need " + mib(job.bytes) +
                                      " of memory, over the budget of " + mib(budget) +
                                      "; lower --texels or --directions, or use --adaptive");
   const std::filesystem::path out(args.out_dir);
@@ -84,39 +94,81 @@ void run_bake_command(const BakeArgs& args) {
   struct statvfs fs {};
   if (::statvfs(parent.c_str(), &fs) == 0) {
     const uint64_t free_bytes = uint64_t(fs.f_bavail) * fs.f_frsize;
-    if (bytes > free_bytes)
-      throw InputError("-o", "the lookup may need up to " + mib(bytes) + " on disk, only " +
+    if (job.bytes > free_bytes)
+      throw InputError("-o", "the lookup may need up to " + mib(job.bytes) + " on disk, only " +
                                  mib(free_bytes) + " free in " + parent.string());
   }
+}
 
-  if (!args.quiet)
-    std::fprintf(stderr,
-                 "bake: %s, K = %d, %llu direction tiles (full: %llu), %llu texels per direction "
-                 "(full: %llu), %llu march samples, up to %s\n",
-                 args.settings.adaptive ? "adaptive" : "full", args.settings.directions,
-                 (unsigned long long)plan.baked_nodes, (unsigned long long)plan.full_nodes,
-                 (unsigned long long)plan.texels, (unsigned long long)plan.full_texels,
-                 (unsigned long long)plan.texel_direction_samples, mib(bytes).c_str());
-  // Step 2: the bake.
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// March samples the probe evaluates: 0.3 to 0.5 s on the paper scene with 2
+/// idle threads. Long enough that a burst of other work on the machine does
+/// not dominate its timing (8192 samples, 0.1 s, were off by up to 60% on a
+/// shared machine) and that every (quad, node) pair of a full K = 8 bake is
+/// drawn about 4 times.
+constexpr uint64_t k_probe_samples = 32768;
+
+struct BakeEstimate {
+  uint64_t probe_samples = 0;
+  double probe_seconds = 0.0;
+  double cache_seconds = 0.0;  ///< light caches (Cached transmittance): paid once, not per sample
+  double seconds = 0.0;        ///< the bake's seconds (run_bake), extrapolated
+};
+
+/// Times a probe of the real bake work (core probe_bake) and extrapolates to
+/// the whole plan. The light caches are built first and timed apart: run_bake
+/// builds them once, whatever the number of samples.
+BakeEstimate estimate_bake(BakeJob& job, const BakeSettings& settings) {
+  BakeEstimate e;
+  Renderer& renderer = *job.renderer;
+  const double setup_before = renderer.stats().setup_seconds;
+  renderer.prepare_light_caches();
+  e.cache_seconds = renderer.stats().setup_seconds - setup_before;
   const auto t0 = std::chrono::steady_clock::now();
-  io::ProgressBar bar("bake", args.quiet);
-  const std::vector<LookupTable> tables =
-      run_bake(*renderer, plan, args.settings, [&](double f) { bar.update(f); });
-  bar.finish();
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  e.probe_samples = probe_bake(renderer, job.plan, settings, k_probe_samples);
+  e.probe_seconds = seconds_since(t0);
+  e.seconds = e.cache_seconds;
+  if (e.probe_samples > 0)
+    e.seconds +=
+        e.probe_seconds * double(job.plan.texel_direction_samples) / double(e.probe_samples);
+  return e;
+}
 
-  // Step 3: the folder, atomically, with what was saved against a full bake.
+/// `--estimate`: the plan and the estimate as one JSON object on stdout.
+void print_estimate(const BakeArgs& args, const BakeJob& job, const BakeEstimate& e) {
+  const nlohmann::json report = {
+      {"march_samples", job.plan.texel_direction_samples},
+      {"full_march_samples", job.plan.full_texel_direction_samples},
+      {"direction_tiles", job.plan.baked_nodes},
+      {"texels", job.plan.texels},
+      {"bytes_uncompressed", job.bytes},
+      {"seconds_estimated", e.seconds},
+      {"probe_samples", e.probe_samples},
+      {"probe_seconds", e.probe_seconds},
+      {"setup_seconds", job.renderer->stats().setup_seconds},
+      {"threads", tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)},
+      {"adaptive", args.settings.adaptive}};
+  std::printf("%s\n", report.dump(2).c_str());
+}
+
+/// Step 3: the folder, atomically, with what was saved against a full bake.
+void write_bake(const BakeArgs& args, const BakeJob& job, const std::vector<LookupTable>& tables,
+                double seconds) {
+  const Renderer& renderer = *job.renderer;
+  const BakePlan& plan = job.plan;
   io::LookupInfo info;
   info.scene_path = args.scene;
-  info.scene_hash = io::scene_fingerprint(scene);
-  for (int o = 0; o < renderer->object_count(); ++o) {
+  info.scene_hash = io::scene_fingerprint(job.scene);
+  for (int o = 0; o < renderer.object_count(); ++o) {
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx",
-                  (unsigned long long)renderer->volume(o).content_hash());
+                  (unsigned long long)renderer.volume(o).content_hash());
     info.cloth_hashes.push_back(hex);
-    info.quad_counts.push_back(renderer->quad_count(o));
-    info.meshes.push_back(summarize_mesh(scene.objects[size_t(o)].mesh));
+    info.quad_counts.push_back(renderer.quad_count(o));
+    info.meshes.push_back(summarize_mesh(job.scene.objects[size_t(o)].mesh));
   }
   info.settings = args.settings;
   const double work = double(std::max<uint64_t>(1, plan.texel_direction_samples));
@@ -126,19 +178,19 @@ void run_bake_command(const BakeArgs& args) {
   full.adaptive = false;
   full.quad_begin = 0;
   full.quad_end = -1;
-  const uint64_t full_bytes = io::lookup_bytes(plan_bake(*renderer, full).objects);
+  const uint64_t full_bytes = io::lookup_bytes(plan_bake(renderer, full).objects);
   info.statistics = {{"bake_seconds", seconds},
-                     {"setup_seconds", renderer->stats().setup_seconds},
+                     {"setup_seconds", renderer.stats().setup_seconds},
                      {"direction_tiles", plan.baked_nodes},
                      {"full_direction_tiles", plan.full_nodes},
                      {"texels", plan.texels},
                      {"full_texels", plan.full_texels},
                      {"march_samples", plan.texel_direction_samples},
                      {"full_march_samples", plan.full_texel_direction_samples},
-                     {"bytes_uncompressed", bytes},
+                     {"bytes_uncompressed", job.bytes},
                      {"full_bytes_uncompressed", full_bytes},
                      {"full_seconds_estimated", full_seconds}};
-  io::write_lookup(args.out_dir, tables, info, scene);
+  io::write_lookup(args.out_dir, tables, info, job.scene);
   uint64_t on_disk = 0;
   for (const auto& entry : std::filesystem::directory_iterator(args.out_dir))
     if (entry.is_regular_file()) on_disk += entry.file_size();
@@ -154,7 +206,45 @@ void run_bake_command(const BakeArgs& args) {
                  args.settings.directions, args.settings.texels,
                  (unsigned long long)plan.baked_nodes, (unsigned long long)plan.full_nodes,
                  (unsigned long long)plan.texels, (unsigned long long)plan.full_texels, seconds,
-                 full_seconds, mib(bytes).c_str(), mib(full_bytes).c_str());
+                 full_seconds, mib(job.bytes).c_str(), mib(full_bytes).c_str());
+}
+
+/// A normal bake runs the probe for its "about N s" only when the probe is
+/// at most 1% of the bake's samples: small bakes would pay for it visibly.
+constexpr uint64_t k_probe_share = 100;
+
+void run_bake_command(const BakeArgs& args) {
+  const auto threads = limit_threads(args.threads);
+  BakeJob job;
+  prepare_bake(args, job);
+  const BakePlan& plan = job.plan;
+  if (args.estimate) {
+    print_estimate(args, job, estimate_bake(job, args.settings));
+    return;
+  }
+  BakeEstimate estimate;
+  std::string about;
+  if (!args.quiet && plan.texel_direction_samples >= k_probe_share * k_probe_samples) {
+    estimate = estimate_bake(job, args.settings);
+    about = ", about " + std::to_string(std::llround(estimate.seconds)) + " s";
+  }
+  if (!args.quiet)
+    std::fprintf(stderr,
+                 "bake: %s, K = %d, %llu direction tiles (full: %llu), %llu texels per direction "
+                 "(full: %llu), %llu march samples, up to %s%s\n",
+                 args.settings.adaptive ? "adaptive" : "full", args.settings.directions,
+                 (unsigned long long)plan.baked_nodes, (unsigned long long)plan.full_nodes,
+                 (unsigned long long)plan.texels, (unsigned long long)plan.full_texels,
+                 (unsigned long long)plan.texel_direction_samples, mib(job.bytes).c_str(),
+                 about.c_str());
+  // Step 2: the bake. Its seconds include the light caches, even when the
+  // estimate built them.
+  const auto t0 = std::chrono::steady_clock::now();
+  io::ProgressBar bar("bake", args.quiet);
+  const std::vector<LookupTable> tables =
+      run_bake(*job.renderer, plan, args.settings, [&](double f) { bar.update(f); });
+  bar.finish();
+  write_bake(args, job, tables, estimate.cache_seconds + seconds_since(t0));
 }
 
 }  // namespace
@@ -186,6 +276,9 @@ void register_bake_command(CLI::App& app, Action action) {
       ->check(CLI::Range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
+  cmd->add_flag("--estimate", args->estimate,
+                "plan, check and time a probe of the work, print the estimate as JSON; bake "
+                "nothing");
   cmd->callback([args, action] {
     BakeArgs checked = *args;
     finish_bake_args(checked);
