@@ -134,6 +134,22 @@ def main():
     settings.bake_dir = bake_dir
     settings.adaptive = False
     settings.directions, settings.texels, settings.bake_spp = 2, 4, 1
+    # Estimate before the bake (issue 13): the program's plan for exactly
+    # these settings, shown in the panel; its march samples are the bake's.
+    from clothbake.blender.operators import estimate_is_current
+    check(not estimate_is_current(bpy.context), "slab: no estimate yet")
+    result = bpy.ops.clothbake.estimate()
+    check(result == {"FINISHED"} and settings.bake_estimate.startswith("about ") and
+          "MiB" in settings.bake_estimate and estimate_is_current(bpy.context) and
+          not os.path.exists(bake_dir),
+          f"slab: Estimate shows '{settings.bake_estimate}' and writes no bake")
+    est = json.loads(subprocess.run(
+        [CLOTHBAKE, "bake", SLAB, "-o", bake_dir, "--direction-map", "hemi-octahedral",
+         "--directions", "2", "--texels", "4", "--spp", "1", "--estimate"],
+        capture_output=True, text=True).stdout)
+    settings.texels = 5
+    check(not estimate_is_current(bpy.context), "slab: an estimate goes stale when a setting changes")
+    settings.texels = 4
     result = bpy.ops.clothbake.bake()
     check(result == {"FINISHED"} and os.path.isfile(os.path.join(bake_dir, "manifest.json")),
           f"slab: Bake wrote the lookup ({settings.bake_status})")
@@ -144,6 +160,8 @@ def main():
                                              type="hemi-octahedral") and
           manifest["settings"]["texels"] == 4 and manifest["settings"]["spp"] == 1 and
           not manifest["settings"]["adaptive"], "slab: bake settings passed (K 2, R 4, 1 spp)")
+    check(manifest["statistics"]["march_samples"] == est["march_samples"],
+          f"slab: the estimate planned the bake's {est['march_samples']} march samples")
     slab = bpy.data.objects["slab"]
     select(slab)
     result = bpy.ops.clothbake.apply()

@@ -113,6 +113,13 @@ def make_plane():
     props.spaces.active.context = "OBJECT"
 
 
+def estimate():
+    result = in_properties(bpy.ops.clothbake.estimate)
+    text = bpy.context.scene.clothbake.bake_estimate
+    check(result == {"FINISHED"} and text.startswith("about "),
+          f"3. Estimate before baking: {text}")
+
+
 def start_bake():
     result = in_properties(bpy.ops.clothbake.bake, "INVOKE_DEFAULT")
     check(result == {"RUNNING_MODAL"}, f"3. Bake runs in the background ({result})")
@@ -174,10 +181,11 @@ def compare():
 # ("shot", name, newest window) runs a tick after the step before it, once the
 # window has redrawn.
 STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_panel", False),
-         start_bake, ("wait", bake_done, 600), ("shot", "03_baked", False), apply_and_cycles,
-         ("shot", "04_denoiser_warning", False), denoising_off, ("shot", "05_denoising_off", False),
-         start_render, ("wait", render_done, 300),
-         after_render, ("shot", "06_f12", True), compare, ("shot", "07_compare", True)]
+         estimate, ("shot", "03_estimate", False), start_bake, ("wait", bake_done, 600),
+         ("shot", "04_baked", False), apply_and_cycles, ("shot", "05_denoiser_warning", False),
+         denoising_off, ("shot", "06_denoising_off", False), start_render,
+         ("wait", render_done, 300), after_render, ("shot", "07_f12", True), compare,
+         ("shot", "08_compare", True)]
 state = {"i": 0, "since": time.time()}
 
 

@@ -140,6 +140,47 @@ def _bake_command(context):
     return args, bake_dir, scene_path
 
 
+def _duration(seconds):
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def estimate_bake(context):
+    """Runs `clothbake bake ... --estimate` for the bake the panel would
+    start: the program plans it and times a small probe of the real work,
+    before any bake. Stores the summary in scene.clothbake.bake_estimate
+    (with the command it is for) and returns (seconds, bytes).
+    Raises ClothbakeError."""
+    args, _, _ = _bake_command(context)
+    report = json.loads(_run(args + ["--estimate"], "bake"))
+    seconds = float(report["seconds_estimated"]) + float(report.get("setup_seconds", 0.0))
+    size = int(report["bytes_uncompressed"])
+    settings = context.scene.clothbake
+    # Short: the panel is narrow (the tooltip of the button has the rest).
+    settings.bake_estimate = f"about {_duration(seconds)}, {max(1, round(size / 2**20))} MiB"
+    settings.bake_estimate_for = _settings_key(context)
+    return seconds, size
+
+
+def _settings_key(context):
+    """What an estimate depends on: the bake settings and the scene file."""
+    s = context.scene.clothbake
+    return json.dumps([s.scene_path, s.adaptive, s.directions, s.texels, s.bake_spp,
+                       round(s.texels_per_pixel, 6), prefs.threads(context)])
+
+
+def estimate_is_current(context):
+    s = context.scene.clothbake
+    return bool(s.bake_estimate) and s.bake_estimate_for == _settings_key(context)
+
+
+# A bake estimated to take longer than this asks before it starts.
+CONFIRM_SECONDS = 60.0
+
+
 def _clean_after_kill(bake_dir, pid):
     """What a killed bake may leave (docs/lookup-format.md "Folder layout"):
     its temporary folder, or an old folder half swapped out."""
@@ -201,10 +242,14 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         return {"CANCELLED"}
 
     def execute(self, context):
-        """Synchronous bake (scripts, background mode)."""
+        """Background mode and scripts: the bake runs to its end here. In
+        the UI (after invoke, or its confirmation), it starts in the
+        background (modal)."""
         if CLOTHBAKE_OT_bake._running:
             self.report({"ERROR"}, "a bake is running already")
             return {"CANCELLED"}
+        if not bpy.app.background and context.window is not None:
+            return self._start_modal(context)
         try:
             args, bake_dir, _ = _bake_command(context)
         except ClothbakeError as e:
@@ -227,6 +272,26 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         if CLOTHBAKE_OT_bake._running:
             self.report({"ERROR"}, "a bake is running already")
             return {"CANCELLED"}
+        # The estimate first (a second or two): a long bake asks before it
+        # starts, with its seconds and bytes (issue 13: a first full bake ran
+        # past 10 minutes with no word beforehand).
+        try:
+            seconds, _ = estimate_bake(context)
+        except ClothbakeError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        if seconds > CONFIRM_SECONDS:
+            return context.window_manager.invoke_props_dialog(self, width=420)
+        return self._start_modal(context)
+
+    def draw(self, context):
+        settings = context.scene.clothbake
+        col = self.layout.column()
+        col.label(text=f"This bake takes {settings.bake_estimate}.", icon="TIME")
+        col.label(text="Esc cancels it once started. Lower Texels or Samples, or tick")
+        col.label(text="Adaptive, for a quicker bake. Start it?")
+
+    def _start_modal(self, context):
         try:
             args, self._bake_dir, _ = _bake_command(context)
             self._proc = subprocess.Popen(
@@ -311,6 +376,21 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
             return {"RUNNING_MODAL"}
         self._end_modal(context)
         return self._finish(self._scene, code, self._lines, self._bake_dir)
+
+
+class CLOTHBAKE_OT_estimate(bpy.types.Operator):
+    """Estimate the seconds and bytes of the bake these settings would start (the program plans it and times a small sample of the work)"""
+    bl_idname = "clothbake.estimate"
+    bl_label = "Estimate"
+
+    def execute(self, context):
+        try:
+            estimate_bake(context)
+        except ClothbakeError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        self.report({"INFO"}, "clothbake bake: " + context.scene.clothbake.bake_estimate)
+        return {"FINISHED"}
 
 
 # -- apply ---------------------------------------------------------------------
@@ -499,4 +579,5 @@ class CLOTHBAKE_OT_denoising_off(bpy.types.Operator):
 
 
 CLASSES = (CLOTHBAKE_OT_import_scene, CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_bake,
-           CLOTHBAKE_OT_apply, CLOTHBAKE_OT_compare, CLOTHBAKE_OT_denoising_off)
+           CLOTHBAKE_OT_estimate, CLOTHBAKE_OT_apply, CLOTHBAKE_OT_compare,
+           CLOTHBAKE_OT_denoising_off)

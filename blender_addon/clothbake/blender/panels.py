@@ -4,8 +4,9 @@ import bpy
 
 from ..core.cloth_fields import DRAFT
 from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_compare,
-                        CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_export_scene,
-                        CLOTHBAKE_OT_import_scene, denoiser_missing)
+                        CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_estimate,
+                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene, denoiser_missing,
+                        estimate_is_current)
 
 
 class _ObjectPanel:
@@ -105,6 +106,15 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
         else:
             col.prop(settings, "texels")
         col.prop(settings, "bake_spp")
+        # What the bake would cost, before it starts: the program's estimate
+        # for exactly these settings, else the button that makes one.
+        row = col.row(align=True)
+        if estimate_is_current(context):
+            row.label(text=settings.bake_estimate, icon="TIME")
+            row.operator(CLOTHBAKE_OT_estimate.bl_idname, text="", icon="FILE_REFRESH")
+        else:
+            row.operator(CLOTHBAKE_OT_estimate.bl_idname, text="Estimate time and size",
+                         icon="TIME")
         col.prop(settings, "compare_samples")
         row = layout.row(align=True)
         row.scale_y = 1.4

@@ -246,9 +246,13 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
                     "(otherwise every quad and direction at the texels below)")
     directions: bpy.props.IntProperty(name="Directions (K)", default=8, min=2, max=64,
                                       description="Direction nodes per side of each hemisphere")
-    texels: bpy.props.IntProperty(name="Texels", default=64, min=1, max=4096,
+    # Defaults for a first bake of about a minute (issue 13): a full bake of
+    # a 64-quad plane at K = 8 took 8 to 10 minutes at 64 texels and 4
+    # samples; at 32 texels (what docs/results.md recommends for full bakes)
+    # and 2 samples the program estimates 62 s on the 2-core machine.
+    texels: bpy.props.IntProperty(name="Texels", default=32, min=1, max=4096,
                                   description="Texels per quad side (full bake)")
-    bake_spp: bpy.props.IntProperty(name="Samples per texel", default=4, min=1, max=4096,
+    bake_spp: bpy.props.IntProperty(name="Samples per texel", default=2, min=1, max=4096,
                                     description="Jittered sub-texel samples per texel")
     texels_per_pixel: bpy.props.FloatProperty(
         name="Texels per pixel", default=1.5, min=0.01, max=64.0,
@@ -276,6 +280,8 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
     bake_running: bpy.props.BoolProperty(default=False)
     bake_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0, subtype="FACTOR")
     bake_status: bpy.props.StringProperty(name="Last bake")
+    bake_estimate: bpy.props.StringProperty(name="Estimate")
+    bake_estimate_for: bpy.props.StringProperty(options={"HIDDEN"})
     compare_status: bpy.props.StringProperty(name="Last comparison")
 
     _RENDER_KEYS = {"spp": "render_spp", "step_cells": "step_cells",
