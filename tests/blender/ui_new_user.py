@@ -12,7 +12,8 @@ step by step from a timer so the window draws between steps:
   4. Apply; the render engine switched to Cycles: the panel warns that this
      Blender has no denoiser; its button pressed;
   5. F12 (render.render invoked as the key does), waited for, saved;
-  6. Compare.
+  6. Compare;
+  7. a full bake at the old defaults: Bake asks first.
 
 A screenshot of the window after each step goes to OUT_DIR/NN_step.png.
 Each step's outcome is checked; the shell script (ui_new_user.sh) then
@@ -177,6 +178,19 @@ def compare():
     check(result == {"FINISHED"}, f"6. Compare: {settings.compare_status}")
 
 
+def long_bake_asks():
+    """The old defaults (a full bake, 64 texels, 4 samples: about 8 minutes
+    here) ask before they start: Bake opens a dialog and runs nothing."""
+    from clothbake.blender.operators import CLOTHBAKE_OT_bake
+    settings = bpy.context.scene.clothbake
+    settings.adaptive = False
+    settings.texels, settings.bake_spp = 64, 4
+    result = in_properties(bpy.ops.clothbake.bake, "INVOKE_DEFAULT")
+    check(result == {"RUNNING_MODAL"} and not CLOTHBAKE_OT_bake._running and
+          not settings.bake_running,
+          f"7. a long bake ({settings.bake_estimate}) asks first and has not started")
+
+
 # The steps; a step that is a predicate waits until it holds (or times out).
 # ("shot", name, newest window) runs a tick after the step before it, once the
 # window has redrawn.
@@ -185,7 +199,7 @@ STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_pane
          ("shot", "04_baked", False), apply_and_cycles, ("shot", "05_denoiser_warning", False),
          denoising_off, ("shot", "06_denoising_off", False), start_render,
          ("wait", render_done, 300), after_render, ("shot", "07_f12", True), compare,
-         ("shot", "08_compare", True)]
+         ("shot", "08_compare", True), long_bake_asks, ("shot", "09_long_bake_asks", False)]
 state = {"i": 0, "since": time.time()}
 
 
