@@ -1,6 +1,6 @@
 """Where the volume texture of a flat clothbake scene lies in world space.
 
-Plain Python (json only): imported by scripts/tile_volume.py (/usr/bin/python3)
+Plain Python (json only): imported by scripts/volumes/tile_volume.py (/usr/bin/python3)
 and by scripts/blender/volume_render.py (inside Blender).
 
 For a scene whose first object is one flat, regular UV patch (testscenes/flat:

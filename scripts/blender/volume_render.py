@@ -1,5 +1,5 @@
 """Renders a flat clothbake scene in Blender 3.4 Cycles as a real volume: the
-tiled volume texture (scripts/tile_volume.py) placed where clothbake's map
+tiled volume texture (scripts/volumes/tile_volume.py) placed where clothbake's map
 puts it, with the scene's camera, lights and background.
 
   blender -b --factory-startup --python-exit-code 1 -P volume_render.py -- \

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CTest blender.cycles_check: clothbake's reference renderer (isotropic mode)
 # against Blender 3.4 Cycles rendering the same volumes as real OpenVDB volumes
-# with volume_bounces = 0 (scripts/cycles_check.sh; docs/results.md, "An
+# with volume_bounces = 0 (scripts/cycles_check/cycles_check.sh; docs/results.md, "An
 # independent check: Cycles real volumes"). Fails when the mean ratio or the
 # PSNR of either scene leaves its bound.
 #
@@ -66,4 +66,4 @@ export BLENDER=$blender CLOTHBAKE=$clothbake
 export SLAB_CY_SPP=512 SLAB_CB_SPP=64 FLAT_CY_SPP=256 FLAT_CB_SPP=16
 export SLAB_RATIO=0.995,1.005 SLAB_MIN_PSNR=48 SLAB_MIN_PSNR4=54
 export FLAT_RATIO=1.002,1.014 FLAT_MIN_PSNR=36 FLAT_MIN_PSNR4=42.5
-bash "$src/scripts/cycles_check.sh" "$tmp" --check
+bash "$src/scripts/cycles_check/cycles_check.sh" "$tmp" --check

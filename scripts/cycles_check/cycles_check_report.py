@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Compares clothbake's reference render of a scene with Cycles' render of the
-same scene as a real volume (scripts/cycles_check.sh; docs/results.md, "An
+same scene as a real volume (scripts/cycles_check/cycles_check.sh; docs/results.md, "An
 independent check: Cycles real volumes").
 
 Usage:
@@ -44,7 +44,8 @@ import sys
 import numpy as np
 import OpenImageIO as oiio
 
-from report_images import erode, read_float, srgb
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from report_images import erode, read_float, srgb  # noqa: E402
 
 
 def write_exr(path, img):

@@ -1,6 +1,7 @@
-"""Image helpers the report scripts share (cycles_check_report.py,
-cycles_timing_report.py): reading an image as floats, the sRGB curve for
-figures, and eroding a cloth mask so edge pixels stay out of a statistic."""
+"""Image helpers the report scripts share (cycles_check/cycles_check_report.py,
+cycles_timing/cycles_timing_report.py, which put scripts/common/ on sys.path):
+reading an image as floats, the sRGB curve for figures, and eroding a cloth
+mask so edge pixels stay out of a statistic."""
 
 import os
 import sys

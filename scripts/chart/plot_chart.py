@@ -1,10 +1,10 @@
-"""Draws the speed-against-accuracy chart from scripts/chart.py's CSV:
+"""Draws the speed-against-accuracy chart from scripts/chart/chart.py's CSV:
 relative RMSE against seconds on log axes, one series per method, the
 Pareto front (no other point both faster and more accurate) marked. For
 bake-based points a hollow marker joined by a dotted line shows the same
 image's cost with the bake's own seconds added.
 
-    /usr/bin/python3 scripts/plot_chart.py POINTS.csv OUT_STEM [--title T]
+    /usr/bin/python3 scripts/chart/plot_chart.py POINTS.csv OUT_STEM [--title T]
 writes OUT_STEM.png and OUT_STEM.svg, and OUT_STEM.md: the same points as a
 Markdown table (docs/results.md quotes it), Pareto points in bold.
 """

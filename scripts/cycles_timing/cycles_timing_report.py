@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Turns the renders of scripts/cycles_volume_timing.sh into figures: noise
+"""Turns the renders of scripts/cycles_timing/cycles_volume_timing.sh into figures: noise
 against samples and seconds for the two Cycles routes (the flat cloth as a
 real volume; the same cloth drawn from a clothbake bake), the sample count
 and seconds each needs for a noise level, and how far the two pictures are
@@ -31,7 +31,8 @@ import sys
 
 import numpy as np
 
-from report_images import erode, read_float, srgb
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from report_images import erode, read_float, srgb  # noqa: E402
 
 LEVELS = [0.05, 0.03, 0.02, 0.01]
 

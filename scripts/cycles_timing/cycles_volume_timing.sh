@@ -4,7 +4,7 @@
 # against a real volume"). Scene: testscenes/flat (a flat cloth of 6 x 6
 # repeats, isotropic shading, so both routes compute the same physics).
 #
-#   scripts/cycles_volume_timing.sh [--reuse-bake]
+#   scripts/cycles_timing/cycles_volume_timing.sh [--reuse-bake]
 #
 # Needs the built clothbake (build/baker/clothbake, or $CLOTHBAKE), Blender 3.4
 # ($BLENDER, default blender), /usr/bin/python3 with OpenImageIO, numpy,
@@ -20,7 +20,7 @@
 # reference (512, another seed); BAKE_SAMPLES (1,4,16) against BAKE_REF (256).
 set -euo pipefail
 
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 CLOTHBAKE=${CLOTHBAKE:-build/baker/clothbake}
 BLENDER=${BLENDER:-blender}
 PY=/usr/bin/python3
@@ -82,7 +82,7 @@ step light_units blender_run -P scripts/blender/light_units.py -- "$OUT/light_un
 
 # 2. The volume texture (one repeat) and its tiling over the cloth.
 step clothbake_volume "$CLOTHBAKE" volume "$SCENE" -o "$OUT/volume"
-step tile_volume "$PY" scripts/tile_volume.py "$SCENE" "$OUT/volume" "$OUT/tiled.vdb"
+step tile_volume "$PY" scripts/volumes/tile_volume.py "$SCENE" "$OUT/volume" "$OUT/tiled.vdb"
 
 # 3. clothbake's own renderer at 16 spp (for how far the two Cycles pictures are from it).
 step clothbake_render "$CLOTHBAKE" render "$SCENE" -o "$OUT/clothbake_render.exr" \
@@ -123,4 +123,4 @@ for n in ${BAKE_SAMPLES//,/ }; do bake_render "$n" 1; done
 bake_render "$BAKE_REF" 7
 
 # 7. Figures.
-"$PY" scripts/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE"
+"$PY" scripts/cycles_timing/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Splits every voxel of a tiled volume (scripts/tile_volume.py) into N^3
+"""Splits every voxel of a tiled volume (scripts/volumes/tile_volume.py) into N^3
 voxels of the same value: the same piecewise-constant density as clothbake's
 nearest-cell lookup, on a grid N times finer, so that Cycles' trilinear
 lookup blurs it over 1/N of a cell instead of a whole cell. An experiment of

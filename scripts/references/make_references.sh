@@ -4,7 +4,7 @@
 # own seed, so reference and test noise are independent), box-averaged 2 x 2,
 # stored as half-float EXR. Run after a deliberate change of the renderer's
 # output, and say why in the commit.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/../lib.sh"
 exe="$CLOTHBAKE_BUILD/baker/clothbake"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
