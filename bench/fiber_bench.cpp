@@ -1,4 +1,4 @@
-// Speed of the fibre models (baker/core/fiber_model.h, fiber_table.h): one item
+// Speed of the fibre models (baker/core/fiber/fiber_model.h, fiber_table.h): one item
 // is one evaluation of (tangent, L, E). Inputs are random but fixed directions.
 
 #include <cmath>
@@ -7,9 +7,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/fiber_model.h"
-#include "core/fiber_table.h"
-#include "core/random.h"
+#include "core/fiber/fiber_model.h"
+#include "core/fiber/fiber_table.h"
+#include "core/util/random.h"
 
 namespace {
 

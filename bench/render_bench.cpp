@@ -9,7 +9,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
-#include "core/renderer.h"
+#include "core/render/renderer.h"
 #include "io/scene_json.h"
 
 namespace {

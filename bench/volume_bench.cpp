@@ -1,7 +1,7 @@
 // Volume generation: time and memory for grids up to 256 x 256 x 32.
 #include <benchmark/benchmark.h>
 
-#include "core/volume_generator.h"
+#include "core/texture/volume_generator.h"
 
 namespace {
 

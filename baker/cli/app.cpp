@@ -2,7 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace clothbake::cli {
 

@@ -18,8 +18,8 @@
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
-#include "core/baker.h"
-#include "core/error.h"
+#include "core/bake/baker.h"
+#include "core/util/error.h"
 #include "io/lookup_io.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
@@ -63,11 +63,25 @@ void finish_bake_args(BakeArgs& args) {
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
 }
 
-/// What step 1 leaves for the bake: the scene, its renderer and the plan,
+/// The flag of a bake setting the core names in an error (BakeSettings'
+/// fields), or null for an error about the scene.
+const char* bake_flag(const std::string& setting) {
+  static const std::pair<const char*, const char*> k_flags[] = {
+      {"directions", "--directions"},
+      {"texels", "--texels"},
+      {"spp", "--spp"},
+      {"texels_per_pixel", "--texels-per-pixel"},
+      {"quads", "--quads"}};
+  for (const auto& [name, flag] : k_flags)
+    if (setting == name) return flag;
+  return nullptr;
+}
+
+/// What step 1 leaves for the bake: the scene, prepared, and the plan,
 /// all checked.
 struct BakeJob {
   Scene scene;
-  std::unique_ptr<Renderer> renderer;  ///< refers to `scene`
+  std::unique_ptr<ClothScene> prepared;  ///< refers to `scene`
   BakePlan plan;
   uint64_t bytes = 0;  ///< the lookup, uncompressed
 };
@@ -77,12 +91,14 @@ struct BakeJob {
 void prepare_bake(const BakeArgs& args, BakeJob& job) {
   io::check_lookup_destination(args.out_dir);
   const uint64_t budget = memory_budget_bytes(args.memory_gib);
-  job.scene = io::load_scene(args.scene);
+  job.scene = io::load_scene(args.scene, budget);
   try {
-    job.renderer = std::make_unique<Renderer>(job.scene, budget);
-    job.plan = plan_bake(*job.renderer, args.settings);
+    job.prepared = std::make_unique<ClothScene>(job.scene, budget);
+    job.plan = plan_bake(*job.prepared, args.settings);
   } catch (const InputError& e) {
-    throw e.field().rfind("--", 0) == 0 ? e : e.in_file(args.scene);
+    // The core names a bake setting; here it is the flag that set it.
+    if (const char* flag = bake_flag(e.field())) throw InputError(flag, e.message());
+    throw e.in_file(args.scene);
   }
   job.bytes = io::lookup_bytes(job.plan.objects);
   if (job.bytes > budget)
@@ -123,12 +139,12 @@ struct BakeEstimate {
 /// builds them once, whatever the number of samples.
 BakeEstimate estimate_bake(BakeJob& job, const BakeSettings& settings) {
   BakeEstimate e;
-  Renderer& renderer = *job.renderer;
-  const double setup_before = renderer.stats().setup_seconds;
-  renderer.prepare_light_caches();
-  e.cache_seconds = renderer.stats().setup_seconds - setup_before;
+  ClothScene& prepared = *job.prepared;
+  const double setup_before = prepared.setup_seconds();
+  prepared.prepare_light_caches();
+  e.cache_seconds = prepared.setup_seconds() - setup_before;
   const auto t0 = std::chrono::steady_clock::now();
-  e.probe_samples = probe_bake(renderer, job.plan, settings, k_probe_samples);
+  e.probe_samples = probe_bake(prepared, job.plan, settings, k_probe_samples);
   e.probe_seconds = seconds_since(t0);
   e.seconds = e.cache_seconds;
   if (e.probe_samples > 0)
@@ -148,7 +164,7 @@ void print_estimate(const BakeArgs& args, const BakeJob& job, const BakeEstimate
       {"seconds_estimated", e.seconds},
       {"probe_samples", e.probe_samples},
       {"probe_seconds", e.probe_seconds},
-      {"setup_seconds", job.renderer->stats().setup_seconds},
+      {"setup_seconds", job.prepared->setup_seconds()},
       {"threads", tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)},
       {"adaptive", args.settings.adaptive}};
   std::printf("%s\n", report.dump(2).c_str());
@@ -157,17 +173,17 @@ void print_estimate(const BakeArgs& args, const BakeJob& job, const BakeEstimate
 /// Step 3: the folder, atomically, with what was saved against a full bake.
 void write_bake(const BakeArgs& args, const BakeJob& job, const std::vector<LookupTable>& tables,
                 double seconds) {
-  const Renderer& renderer = *job.renderer;
+  const ClothScene& prepared = *job.prepared;
   const BakePlan& plan = job.plan;
   io::LookupInfo info;
   info.scene_path = args.scene;
   info.scene_hash = io::scene_fingerprint(job.scene);
-  for (int o = 0; o < renderer.object_count(); ++o) {
+  for (int o = 0; o < prepared.object_count(); ++o) {
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx",
-                  (unsigned long long)renderer.volume(o).content_hash());
+                  (unsigned long long)prepared.volume(o).content_hash());
     info.cloth_hashes.push_back(hex);
-    info.quad_counts.push_back(renderer.quad_count(o));
+    info.quad_counts.push_back(prepared.quad_count(o));
     info.meshes.push_back(summarize_mesh(job.scene.objects[size_t(o)].mesh));
   }
   info.settings = args.settings;
@@ -178,9 +194,9 @@ void write_bake(const BakeArgs& args, const BakeJob& job, const std::vector<Look
   full.adaptive = false;
   full.quad_begin = 0;
   full.quad_end = -1;
-  const uint64_t full_bytes = io::lookup_bytes(plan_bake(renderer, full).objects);
+  const uint64_t full_bytes = io::lookup_bytes(plan_bake(prepared, full).objects);
   info.statistics = {{"bake_seconds", seconds},
-                     {"setup_seconds", renderer.stats().setup_seconds},
+                     {"setup_seconds", prepared.setup_seconds()},
                      {"direction_tiles", plan.baked_nodes},
                      {"full_direction_tiles", plan.full_nodes},
                      {"texels", plan.texels},
@@ -242,7 +258,7 @@ void run_bake_command(const BakeArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   io::ProgressBar bar("bake", args.quiet);
   const std::vector<LookupTable> tables =
-      run_bake(*job.renderer, plan, args.settings, [&](double f) { bar.update(f); });
+      run_bake(*job.prepared, plan, args.settings, [&](double f) { bar.update(f); });
   bar.finish();
   write_bake(args, job, tables, estimate.cache_seconds + seconds_since(t0));
 }
@@ -259,14 +275,14 @@ void register_bake_command(CLI::App& app, Action action) {
                 "derive quads, texels and directions from the scene's camera");
   cmd->add_option("--directions", args->settings.directions,
                   "K: direction nodes per side of each hemisphere")
-      ->check(CLI::Range(2, 64));
+      ->check(CLI::Range(k_min_directions, k_max_directions));
   cmd->add_option("--texels", args->settings.texels, "R: texels per quad side (full bake)")
-      ->check(CLI::Range(1, 4096));
+      ->check(CLI::Range(k_min_texels, k_max_texels));
   cmd->add_option("--spp", args->settings.spp, "jittered sub-texel samples per texel")
-      ->check(CLI::Range(1, 4096));
+      ->check(CLI::Range(k_min_bake_spp, k_max_bake_spp));
   cmd->add_option("--texels-per-pixel", args->settings.texels_per_pixel,
                   "adaptive: texels per projected pixel")
-      ->check(CLI::Range(0.01, 64.0));
+      ->check(CLI::Range(0.01, double(k_max_texels_per_pixel)));
   cmd->add_option("--direction-map", args->map,
                   "layout of the direction nodes (docs/lookup-format.md)")
       ->check(CLI::IsMember({"polar", "hemi-octahedral"}));

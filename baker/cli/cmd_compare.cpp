@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/image_compare.h"
 #include "io/image_io.h"
 

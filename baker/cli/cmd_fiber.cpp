@@ -19,10 +19,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "core/error.h"
-#include "core/fiber_model.h"
-#include "core/fiber_table.h"
-#include "core/image.h"
+#include "core/util/error.h"
+#include "core/fiber/fiber_model.h"
+#include "core/fiber/fiber_table.h"
+#include "core/util/image.h"
 #include "io/image_io.h"
 
 namespace clothbake::cli {
@@ -117,6 +117,9 @@ void mark(Image& image, float cx, float cy, const float rgb[3]) {
 
 using Response = std::function<FiberResponse(const Imath::V3f& to_eye)>;
 
+// About 85 lines, kept whole: one figure drawn top to bottom (two panels,
+// their lobes, the colour bars, the captions), every part placed by the
+// layout constants at its top.
 /// Two panels (diffuse, specular) of the response over view directions.
 Image plot_lobes(const Response& response, const Imath::V3f& tangent, const Imath::V3f& light,
                  const Imath::V3f& view, const std::string& caption) {

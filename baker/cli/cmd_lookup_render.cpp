@@ -13,8 +13,9 @@
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
-#include "core/baker.h"
-#include "core/error.h"
+#include "core/bake/baker.h"
+#include "core/render/renderer.h"
+#include "core/util/error.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/lookup_io.h"
@@ -44,9 +45,9 @@ void run_lookup_render(const LookupRenderArgs& args) {
   // Step 1: everything is read and checked before any work or output.
   io::check_output_folder(args.out_exr, "-o");
   if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
-  Scene scene = io::load_scene(args.scene);
-  if (args.spp > 0) scene.settings.spp = args.spp;
   const uint64_t budget = memory_budget_bytes(args.memory_gib);
+  Scene scene = io::load_scene(args.scene, budget);
+  if (args.spp > 0) scene.settings.spp = args.spp;
   try {
     check_render_memory(scene.camera, budget);
   } catch (const InputError& e) {
@@ -67,22 +68,22 @@ void run_lookup_render(const LookupRenderArgs& args) {
   // Step 2: the lookup must be of this scene's meshes and volumes (the scene
   // hash covers the specs; a volume generator of another version does not).
   const std::string manifest = args.bake_dir + "/manifest.json";
-  if (int(tables.size()) != renderer->object_count())
+  if (int(tables.size()) != renderer->prepared().object_count())
     throw InputError("objects",
                      "the lookup has " + std::to_string(tables.size()) + " objects, the scene " +
-                         std::to_string(renderer->object_count()),
+                         std::to_string(renderer->prepared().object_count()),
                      manifest);
-  for (int o = 0; o < renderer->object_count(); ++o) {
+  for (int o = 0; o < renderer->prepared().object_count(); ++o) {
     const std::string field = "objects[" + std::to_string(o) + "]";
-    if (tables[o].quad_count() != renderer->quad_count(o))
+    if (tables[o].quad_count() != renderer->prepared().quad_count(o))
       throw InputError(field + ".quads",
                        "the lookup has " + std::to_string(tables[o].quad_count()) +
-                           " quads, the scene's mesh " + std::to_string(renderer->quad_count(o)) +
-                           "; bake again",
+                           " quads, the scene's mesh " +
+                           std::to_string(renderer->prepared().quad_count(o)) + "; bake again",
                        manifest);
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx",
-                  (unsigned long long)renderer->volume(o).content_hash());
+                  (unsigned long long)renderer->prepared().volume(o).content_hash());
     if (!info.cloth_hashes[o].empty() && info.cloth_hashes[o] != hex)
       throw InputError(field + ".cloth_hash",
                        "the lookup was baked from a volume with hash " + info.cloth_hashes[o] +
@@ -91,7 +92,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
                        manifest);
   }
   std::atomic<uint64_t> misses{0};
-  const Renderer::HitShader shader = lookup_shader(*renderer, tables, &misses);
+  const SurfaceShader shader = lookup_shader(renderer->prepared(), tables, &misses);
   io::ProgressBar bar("lookup-render", args.quiet);
   const Image image = renderer->render_with(&shader, [&](double f) { bar.update(f); });
   bar.finish();

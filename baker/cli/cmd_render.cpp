@@ -11,8 +11,8 @@
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
-#include "core/error.h"
-#include "core/renderer.h"
+#include "core/render/renderer.h"
+#include "core/util/error.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/progress.h"
@@ -46,9 +46,9 @@ void run_render(const RenderArgs& args) {
   // Step 1: everything is read and checked before any work or output.
   io::check_output_folder(args.out_exr, "-o");
   if (!args.out_png.empty()) io::check_output_folder(args.out_png, "--png");
-  Scene scene = io::load_scene(args.scene);
-  if (args.spp > 0) scene.settings.spp = args.spp;
   const uint64_t budget = memory_budget_bytes(args.memory_gib);
+  Scene scene = io::load_scene(args.scene, budget);
+  if (args.spp > 0) scene.settings.spp = args.spp;
   std::unique_ptr<Renderer> renderer;
   try {
     check_render_memory(scene.camera, budget);

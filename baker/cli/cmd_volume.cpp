@@ -16,9 +16,9 @@
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
-#include "core/error.h"
-#include "core/volume_generator.h"
-#include "core/volume_preview.h"
+#include "core/util/error.h"
+#include "core/texture/volume_generator.h"
+#include "core/texture/volume_preview.h"
 #include "io/atomic_file.h"
 #include "io/cloth_spec_json.h"
 #include "io/image_io.h"
@@ -50,6 +50,9 @@ Image labelled(Image image, const std::string& text) {
   return out;
 }
 
+// About 95 lines, kept whole: the command's three steps in order (read and
+// check; generate; write the VDB, previews and report together), as each
+// command reads.
 void run_volume(const VolumeArgs& args) {
   const auto threads = limit_threads(args.threads);
   // Step 1: read and check everything before any output exists.

@@ -16,7 +16,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace clothbake::io {
 
@@ -188,6 +188,46 @@ void ensure_directory(const std::string& dir) {
   }
   fs::create_directories(dir, ec);
   if (ec) throw InputError("", "cannot create the output folder: " + ec.message(), dir);
+}
+
+FolderSiblings folder_siblings(const std::string& dir) {
+  fs::path final_dir(dir);
+  if (!final_dir.has_filename()) final_dir = final_dir.parent_path();  // "out/" -> "out"
+  if (final_dir.empty()) throw InputError("", "empty output folder name", dir);
+  const fs::path parent = final_dir.has_parent_path() ? final_dir.parent_path() : fs::path(".");
+  const std::string pid = std::to_string(::getpid());
+  const std::string name = final_dir.filename().string();
+  return {final_dir.string(), (parent / (name + k_folder_temp_tag + pid)).string(),
+          (parent / (name + k_folder_old_tag + pid)).string()};
+}
+
+void publish_folder(UnfinishedOutput& unfinished, const FolderSiblings& names,
+                    const std::string& what) {
+  const fs::path final_dir(names.final_dir), temp_dir(names.temp_dir), old_dir(names.old_dir);
+  unfinished.publish([&] {
+    std::error_code ec;
+    const bool had_old = fs::exists(final_dir, ec);
+    if (had_old && ::renameat2(AT_FDCWD, temp_dir.c_str(), AT_FDCWD, final_dir.c_str(),
+                               RENAME_EXCHANGE) == 0) {
+      fs::remove_all(temp_dir, ec);  // now the previous folder
+      return;
+    }
+    if (had_old) {
+      fs::remove_all(old_dir, ec);
+      fs::rename(final_dir, old_dir, ec);
+      if (ec)
+        throw InputError("", "cannot move the previous " + what + " aside: " + ec.message(),
+                         names.final_dir);
+    }
+    fs::rename(temp_dir, final_dir, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      if (had_old) fs::rename(old_dir, final_dir, ec);
+      throw InputError("", "cannot move the finished " + what + " into place: " + why,
+                       names.final_dir);
+    }
+    if (had_old) fs::remove_all(old_dir, ec);
+  });
 }
 
 }  // namespace clothbake::io

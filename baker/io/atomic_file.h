@@ -70,6 +70,30 @@ void write_all_atomically(
 /// `option` names the command-line option ("-o", "--png").
 void check_output_folder(const std::string& final_path, const std::string& option);
 
+/// Where a folder output `final_dir` is written before it is swapped in, and
+/// where the folder it replaces is set aside meanwhile: siblings named
+/// "<name>.tmp-<pid>" and "<name>.old-<pid>" (k_folder_temp_tag,
+/// k_folder_old_tag). The Blender add-on tidies up after a bake it killed by
+/// the same names (blender_addon/clothbake/core/folders.py; the add-on's
+/// tests read these two tags from this header).
+inline constexpr const char* k_folder_temp_tag = ".tmp-";
+inline constexpr const char* k_folder_old_tag = ".old-";
+struct FolderSiblings {
+  std::string final_dir, temp_dir, old_dir;
+};
+/// The names for `dir` ("out/" is taken as "out"); throws InputError for an
+/// empty name.
+FolderSiblings folder_siblings(const std::string& dir);
+
+/// Swaps a finished folder into place inside `unfinished.publish`: the
+/// previous `final_dir` (if any) survives until the new one is there. Where
+/// the file system can, one exchange of the two names (not even a kill -9
+/// finds the final name missing); else two renames, between which an
+/// interrupt cannot fall. Throws InputError naming `final_dir` (which is then
+/// as it was).
+void publish_folder(UnfinishedOutput& unfinished, const FolderSiblings& names,
+                    const std::string& what);
+
 /// Creates `dir` (and parents) if missing; throws InputError naming it if it
 /// cannot be created or is not a directory.
 void ensure_directory(const std::string& dir);

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "core/cloth_spec.h"
+#include "core/weave/cloth_spec.h"
 #include "io/json_reader.h"
 
 namespace clothbake::io {

@@ -8,7 +8,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/image_io.h"
 
 namespace clothbake::io {

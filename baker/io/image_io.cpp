@@ -10,7 +10,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/atomic_file.h"
 
 namespace clothbake::io {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/text_file.h"
 
 namespace clothbake::io {

@@ -1,8 +1,9 @@
 #pragma once
-/// Reading and writing a baked lookup folder (format: docs/lookup-format.md):
-/// `manifest.json` plus, per cloth object and side (front/back), one
-/// half-float RGBA OpenEXR atlas packing the squares of the (quad, direction
-/// node) pairs the bake computed.
+/// A baked lookup folder on disk (format: docs/lookup-format.md):
+/// `manifest.json` (io/lookup_manifest.h) plus, per cloth object and side
+/// (front/back), one half-float RGBA OpenEXR atlas packing the squares of the
+/// (quad, direction node) pairs the bake computed. Written as a whole or not
+/// at all (io/atomic_file.h, publish_folder); merged from partial bakes.
 
 #include <cstdint>
 #include <optional>
@@ -11,32 +12,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/baker.h"
-#include "core/lookup_table.h"
-#include "core/mesh_summary.h"
-#include "core/scene.h"
+#include "core/bake/lookup_table.h"
+#include "core/bake/scene_fingerprint.h"
+#include "core/scene/scene.h"
+#include "io/lookup_manifest.h"
 
 namespace clothbake::io {
 
-inline constexpr int k_lookup_format_version = 2;
-
-/// What the manifest records besides the tables themselves.
-struct LookupInfo {
-  std::string scene_path;                 ///< as given on the command line
-  std::string scene_hash;                 ///< hash of the scene as loaded (scene_fingerprint)
-  std::vector<std::string> cloth_hashes;  ///< per object: VolumeTexture::content_hash, hex
-  std::vector<int> quad_counts;           ///< per object
-  /// Per object: the mesh it was baked from, summarised (absent in lookups
-  /// written before it was recorded).
-  std::vector<std::optional<MeshSummary>> meshes;
-  BakeSettings settings;
-  nlohmann::json statistics;  ///< free-form: seconds, savings, ...
-};
-
-/// A hash of everything in a scene that changes what a bake computes
-/// (meshes, cloth specs, lights, render settings except spp; not the camera),
-/// as 16 hex digits. A lookup is only valid for a scene with the same hash.
-std::string scene_fingerprint(const Scene& scene);
+/// The scene fingerprint is core logic (core/bake/scene_fingerprint.h); the
+/// commands call it from here as they always have.
+using ::clothbake::scene_fingerprint;
 
 /// Refuses, before any work, a destination `write_lookup` would refuse: a
 /// file, or a non-empty folder that is not a lookup (it would be replaced).

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/text_file.h"
 
 namespace clothbake::io {
@@ -95,6 +95,8 @@ QuadMesh read_obj_quads(const std::string& path) {
   return obj_quads_from_text(read_text_file(path, "an OBJ file"), path);
 }
 
+// About 135 lines, kept whole: a line-by-line parser with one case per OBJ
+// statement, each refusing with the line number.
 QuadMesh obj_quads_from_text(std::string_view all, const std::string& path) {
   const ObjParser parser(path);
   QuadMesh mesh;

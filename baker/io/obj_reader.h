@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/quad_mesh.h"
+#include "core/geometry/quad_mesh.h"
 
 namespace clothbake::io {
 

@@ -8,11 +8,12 @@
 
 #include <Imath/ImathVec.h>
 
-#include "core/error.h"
+#include "core/scene/scene_checks.h"
+#include "core/util/error.h"
 #include "io/cloth_spec_json.h"
 #include "io/json_reader.h"
+#include "io/light_json.h"
 #include "io/obj_reader.h"
-#include "io/system_info.h"
 #include "io/text_file.h"
 #include "io/vdb_reader.h"
 
@@ -121,43 +122,6 @@ PinholeCamera read_camera(const JsonObject& j) {
   return camera;
 }
 
-Light read_light(const JsonObject& j) {
-  if (!j.has("type")) j.fail(j.field("type"), "missing; expected one of: directional, point");
-  std::string type;
-  j.read("type", type);
-  Light light;
-  if (type == "directional") {
-    j.allow_only({"type", "direction", "color", "intensity"});
-    light.type = LightType::Directional;
-    if (!j.has("direction"))
-      j.fail(j.field("direction"), "missing (the direction the light travels, into the scene)");
-    V3f direction;
-    j.read("direction", direction);
-    const V3d d = to_double(direction);
-    const double length = d.length();
-    if (!(length > 0.0))
-      j.fail(j.field("direction"),
-             "must not be the zero vector (it is the direction the light "
-             "travels)");
-    const V3d to_light = -d / length;
-    light.to_light_world = V3f(float(to_light.x), float(to_light.y), float(to_light.z));
-  } else if (type == "point") {
-    j.allow_only({"type", "position", "color", "intensity"});
-    light.type = LightType::Point;
-    if (!j.has("position")) j.fail(j.field("position"), "missing (where the point light is)");
-    j.read("position", light.position_world);
-  } else {
-    j.fail(j.field("type"),
-           "unknown light type '" + type + "'; expected one of: directional, point");
-  }
-  j.read("color", light.color);
-  j.read("intensity", light.intensity);
-  require_non_negative(j, "color", light.color);
-  if (light.intensity < 0.0f)
-    j.fail(j.field("intensity"), "must be >= 0, got " + fmt(light.intensity));
-  return light;
-}
-
 RenderSettings read_render(const JsonObject& j) {
   j.allow_only({"spp", "step_cells", "fiber_model", "fiber_samples", "transmittance", "shading",
                 "cutoff", "seed", "light_roulette"});
@@ -195,7 +159,8 @@ RenderSettings read_render(const JsonObject& j) {
   return s;
 }
 
-ClothObject read_object(const JsonObject& j, const std::string& default_name) {
+ClothObject read_object(const JsonObject& j, const std::string& default_name,
+                        uint64_t memory_budget_bytes) {
   j.allow_only({"name", "mesh", "cloth", "volume", "repeats_per_uv", "thickness_world",
                 "extinction_per_mm", "isotropic_albedo"});
   ClothObject object;
@@ -246,7 +211,7 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
     const fs::path volume_path = relative_to(j.file(), volume_rel);
     try {
       object.volume = std::make_shared<const VolumeTexture>(
-          read_volume_vdb(volume_path.string(), default_memory_budget_bytes()));
+          read_volume_vdb(volume_path.string(), memory_budget_bytes));
     } catch (const InputError& e) {
       j.fail(j.field("volume"), e.what());
     }
@@ -270,62 +235,14 @@ ClothObject read_object(const JsonObject& j, const std::string& default_name) {
   return object;
 }
 
-/// Closest point to `p` on the triangle (a, b, c): Ericson, "Real-Time
-/// Collision Detection", s.5.1.5, by Voronoi regions.
-V3d closest_on_triangle(const V3d& p, const V3d& a, const V3d& b, const V3d& c) {
-  const V3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const V3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  const V3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-/// The volume of a quad lies behind its front face, down to thickness_world.
-/// A camera there would start its rays inside the cloth, which the renderer
-/// does not model; each quad's bilinear patch is approximated by the
-/// triangles (p0, p1, p2) and (p0, p2, p3).
-void check_camera_outside_cloth(const Scene& scene, const JsonObject& top) {
-  const V3d eye = to_double(scene.camera.position_world);
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    const ClothObject& object = scene.objects[i];
-    const double thickness = object.thickness_world;
-    for (const QuadMesh::Quad& quad : object.mesh.quads) {
-      V3d p[4];
-      for (int c = 0; c < 4; ++c) p[c] = to_double(object.mesh.positions_world[quad.position[c]]);
-      for (const auto& [b, c] : {std::pair{1, 2}, std::pair{2, 3}}) {
-        const V3d normal = (p[b] - p[0]).cross(p[c] - p[0]);
-        if (normal.length() == 0.0) continue;
-        const V3d offset = eye - closest_on_triangle(eye, p[0], p[b], p[c]);
-        const double distance = offset.length();
-        if (distance < thickness && offset.dot(normal) <= 0.0)
-          top.fail("camera", "position is inside the cloth volume of objects[" + std::to_string(i) +
-                                 "] (distance " + fmt(distance) + " < thickness_world " +
-                                 fmt(thickness) + ")");
-      }
-    }
-  }
-}
-
 }  // namespace
 
-Scene load_scene(const std::string& path) {
-  return scene_from_text(read_text_file(path, "a JSON file"), path);
+Scene load_scene(const std::string& path, uint64_t memory_budget_bytes) {
+  return scene_from_text(read_text_file(path, "a JSON file"), path, memory_budget_bytes);
 }
 
-Scene scene_from_text(const std::string& text, const std::string& path) {
+Scene scene_from_text(const std::string& text, const std::string& path,
+                      uint64_t memory_budget_bytes) {
   const nlohmann::json doc = parse_json_text(text, path);
   const JsonObject top(doc, "", path);
   top.allow_only({"name", "description", "camera", "lights", "objects", "background", "render"});
@@ -342,8 +259,8 @@ Scene scene_from_text(const std::string& text, const std::string& path) {
   if (!lights.is_array() || lights.empty())
     top.fail("lights", "expected a non-empty array of lights, got " + type_name(lights));
   for (size_t i = 0; i < lights.size(); ++i)
-    scene.lights.push_back(
-        read_light(JsonObject(lights[i], "lights[" + std::to_string(i) + "]", path)));
+    scene.lights.push_back(read_light(
+        JsonObject(lights[i], "lights[" + std::to_string(i) + "]", path), LightSpelling::Scene));
 
   top.read("background", scene.background);
   require_non_negative(top, "background", scene.background);
@@ -356,11 +273,15 @@ Scene scene_from_text(const std::string& text, const std::string& path) {
     top.fail("objects", "expected a non-empty array of cloth objects, got " + type_name(objects));
   for (size_t i = 0; i < objects.size(); ++i) {
     const std::string field = "objects[" + std::to_string(i) + "]";
-    scene.objects.push_back(read_object(JsonObject(objects[i], field, path), field));
+    scene.objects.push_back(
+        read_object(JsonObject(objects[i], field, path), field, memory_budget_bytes));
   }
 
   // Step 3: checks across parts.
-  check_camera_outside_cloth(scene, top);
+  if (const auto inside = camera_inside_cloth(scene))
+    top.fail("camera", "position is inside the cloth volume of objects[" +
+                           std::to_string(inside->object) + "] (distance " + fmt(inside->distance) +
+                           " < thickness_world " + fmt(inside->thickness) + ")");
   return scene;
 }
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <system_error>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace clothbake::io {
 

@@ -7,7 +7,7 @@
 
 #include <openvdb/openvdb.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/vdb_writer.h"
 
 namespace clothbake::io {
@@ -117,6 +117,9 @@ uint64_t estimated_vdb_read_bytes(uint64_t cell_count) {
   return cell_count * (sizeof(Cell) + grid_bytes);
 }
 
+// About 155 lines, kept whole: opens the file and reads and checks its
+// grids in order (metadata, density, tangent, shading), each error naming
+// the file and the grid.
 VolumeTexture read_volume_vdb(const std::string& path, uint64_t memory_budget_bytes) {
   // Step 1: the file.
   std::error_code ec;

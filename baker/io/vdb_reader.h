@@ -27,7 +27,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/volume_texture.h"
+#include "core/texture/volume_texture.h"
 
 namespace clothbake::io {
 

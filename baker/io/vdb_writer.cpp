@@ -5,7 +5,7 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "io/atomic_file.h"
 
 namespace clothbake::io {

@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "core/volume_texture.h"
+#include "core/texture/volume_texture.h"
 
 namespace clothbake::io {
 

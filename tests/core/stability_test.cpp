@@ -23,15 +23,15 @@
 
 #include <gtest/gtest.h>
 
-#include "core/baker.h"
-#include "core/direction_grid.h"
-#include "core/fiber_model.h"
-#include "core/fiber_table.h"
-#include "core/lookup_table.h"
-#include "core/quad_patch.h"
-#include "core/random.h"
-#include "core/renderer.h"
-#include "core/volume_generator.h"
+#include "core/bake/baker.h"
+#include "core/bake/direction_grid.h"
+#include "core/bake/lookup_table.h"
+#include "core/fiber/fiber_model.h"
+#include "core/fiber/fiber_table.h"
+#include "core/geometry/quad_patch.h"
+#include "core/render/renderer.h"
+#include "core/texture/volume_generator.h"
+#include "core/util/random.h"
 
 namespace clothbake {
 namespace {
@@ -101,13 +101,13 @@ double radiance_bound(const Renderer& r, const Scene& scene) {
     irradiance += double(l.intensity) * std::max({l.color.x, l.color.y, l.color.z});
   }
   double reflect = 0.0;
-  for (int o = 0; o < r.object_count(); ++o) {
+  for (int o = 0; o < r.prepared().object_count(); ++o) {
     if (scene.settings.shading == ShadingMode::Isotropic) {
       const V3f a = scene.objects[o].isotropic_albedo;
       reflect = std::max(reflect, std::max({a.x, a.y, a.z}) / (4.0 * k_pi));
       continue;
     }
-    for (const Cell& c : r.volume(o).cells())
+    for (const Cell& c : r.prepared().volume(o).cells())
       if (c.density > 0.0f)
         reflect = std::max(reflect,
                            double(std::max({c.diffuse.x, c.diffuse.y, c.diffuse.z})) + c.specular);
@@ -127,7 +127,7 @@ double relative_rmse(const Image& a, const Image& ref) {
 }
 
 // ---------------------------------------------------------------------------
-// Scenes (after tests/core/renderer_test.cpp and baker_test.cpp).
+// Scenes (after tests/core/render/renderer_test.cpp and baker_test.cpp).
 
 V3f direction(double theta_deg, double phi_deg) {
   const double t = theta_deg * k_pi / 180.0, p = phi_deg * k_pi / 180.0;
@@ -492,11 +492,11 @@ TEST(Stability, MarchGrazingAndBelowHorizonMatchesTheSlab) {
       scene.settings.transmittance = mode;
       scene.lights[0].to_light_world = direction(c.light_theta, 30);
       Renderer r(scene, k_budget);
-      r.prepare_light_caches();
+      r.prepared().prepare_light_caches();
       const V3f to_eye = direction(c.view_theta, 0);
       const TraceMean m = mean_trace(r, to_eye, 128, 3);
       EXPECT_EQ(m.audit.nan + m.audit.inf, 0);
-      const double tau0 = double(sigma) * density * r.volume(0).size_mm().z;
+      const double tau0 = double(sigma) * density * r.prepared().volume(0).size_mm().z;
       const bool behind = to_eye.z < 0.0f;
       const double mu_v = behind ? -to_eye.z : to_eye.z;
       const double mu_l =
@@ -679,9 +679,9 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
     EXPECT_EQ(m.audit.nan + m.audit.inf, 0);
     EXPECT_LE(m.radiance.x, radiance_bound(r, scene));
     const double mu_v = to_eye.z, mu_l = scene.lights[0].to_light_world.z;
-    const double tau0 = sigma * r.volume(0).size_mm().z;
+    const double tau0 = sigma * r.prepared().volume(0).size_mm().z;
     const double limit = slab_radiance(0.8, 2.0, tau0, mu_v, mu_l);
-    const double dt = 0.5 * r.volume(0).cell_size_mm().z;
+    const double dt = 0.5 * r.prepared().volume(0).cell_size_mm().z;
     std::printf(
         "[stability] opaque slab sigma %8.0f (sigma rho dt %.3g): radiance R %.5f vs "
         "closed form %.5f (ratio %.3f), see-through %.3g\n",
@@ -700,7 +700,7 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
     bs.directions = 3;
     bs.texels = 2;
     bs.spp = 2;
-    const std::vector<LookupTable> tables = run_bake(r, plan_bake(r, bs), bs);
+    const std::vector<LookupTable> tables = run_bake(r.prepared(), plan_bake(r.prepared(), bs), bs);
     int64_t wrong_texels = 0;
     const LookupTable& lt = tables[0];
     for (int node = 0; node < lt.node_count(); ++node)
@@ -716,7 +716,7 @@ TEST(Stability, OpaqueAndEmptyVolumesHitTheirExactLimits) {
         }
     EXPECT_EQ(wrong_texels, 0) << (opaque ? "opaque" : "empty");
     std::atomic<uint64_t> misses{0};
-    const Renderer::HitShader shader = lookup_shader(r, tables, &misses);
+    const Renderer::HitShader shader = lookup_shader(r.prepared(), tables, &misses);
     const Image img = r.render_with(&shader);
     const ImageAudit a = audit(img);
     expect_sane(a, radiance_bound(r, scene), "lookup-render");
@@ -746,11 +746,11 @@ TEST(Stability, OneLayerVolume) {
         scene.settings.transmittance = mode;
         scene.lights[0].to_light_world = direction(light, 30);
         Renderer r(scene, k_budget);
-        r.prepare_light_caches();
+        r.prepared().prepare_light_caches();
         const V3f to_eye = direction(view, 0);
         const TraceMean m = mean_trace(r, to_eye, 128, 4);
         EXPECT_EQ(m.audit.nan + m.audit.inf, 0);
-        const double tau0 = double(sigma) * density * r.volume(0).size_mm().z;
+        const double tau0 = double(sigma) * density * r.prepared().volume(0).size_mm().z;
         const bool behind = to_eye.z < 0.0f;
         const double mu_v = behind ? -to_eye.z : to_eye.z;
         const double mu_l = (behind ? -1.0 : 1.0) * scene.lights[0].to_light_world.z;
@@ -799,7 +799,7 @@ TEST(Stability, LongMarchSteps) {
         scene.settings.step_cells = steps[si];
         scene.settings.cutoff = 1e-3f;
         Renderer r(scene, k_budget);
-        r.prepare_light_caches();
+        r.prepared().prepare_light_caches();
         const V3f to_eye = direction(view, 0);
         const TraceMean m = mean_trace(r, to_eye, 128, 6);
         EXPECT_EQ(m.audit.nan + m.audit.inf, 0);
@@ -808,7 +808,7 @@ TEST(Stability, LongMarchSteps) {
         EXPECT_LE(m.radiance.x, radiance_bound(r, scene));
         rad[si] = m.radiance.x;
         see[si] = m.transmittance;
-        const double tau0 = double(sigma) * density * r.volume(0).size_mm().z;
+        const double tau0 = double(sigma) * density * r.prepared().volume(0).size_mm().z;
         expected = slab_radiance(0.8, 2.0, tau0, to_eye.z, scene.lights[0].to_light_world.z);
         see_expected = std::exp(-tau0 / to_eye.z);
       }
@@ -1099,7 +1099,8 @@ TEST(Stability, DirectionGridGrazingHorizonAndDegenerateDirections) {
       bs.map = map;
       bs.texels = 1;
       bs.spp = 1;
-      const std::vector<LookupTable> tables = run_bake(r, plan_bake(r, bs), bs);
+      const std::vector<LookupTable> tables =
+          run_bake(r.prepared(), plan_bake(r.prepared(), bs), bs);
       for (const V3f& d : {V3f(k_nan, 0, 1), V3f(0, k_inf, 0), V3f(k_nan, k_nan, k_nan)}) {
         float rgba[4] = {-1, -1, -1, -1};
         EXPECT_TRUE(tables[0].sample(0, 0.5f, 0.5f, d, rgba));
@@ -1131,7 +1132,7 @@ V3f shade_mean(const Renderer& r, const V3f& to_eye, int n, uint64_t salt,
   for (int i = 0; i < n; ++i) {
     Rng rng(hash_key(salt, i));
     const float s = 0.3f + 0.4f * rng.next_float(), t = 0.3f + 0.4f * rng.next_float();
-    const MarchResult m = r.shade_surface(0, 0, s, t, -to_eye, rng);
+    const MarchResult m = r.prepared().shade_surface(0, 0, s, t, -to_eye, rng);
     sum += m.radiance;
     a += 1.0 - m.transmittance;
   }
@@ -1166,7 +1167,8 @@ TEST(Stability, LookupCoarseKAtGrazingViews) {
       bs.map = map;
       bs.texels = 1;
       bs.spp = 16;
-      const std::vector<LookupTable> tables = run_bake(r, plan_bake(r, bs), bs);
+      const std::vector<LookupTable> tables =
+          run_bake(r.prepared(), plan_bake(r.prepared(), bs), bs);
       std::string line;
       for (size_t ti = 0; ti < thetas.size(); ++ti) {
         double worst = 0.0;
@@ -1227,7 +1229,9 @@ TEST(Stability, BakeTexelResolutionExtremes) {
   for (int i = 0; i < m_ref; ++i) {
     Rng rng(hash_key(77, i));
     const double v =
-        r.shade_surface(0, 0, rng.next_float(), rng.next_float(), V3f(0, 0, -1), rng).radiance.x;
+        r.prepared()
+            .shade_surface(0, 0, rng.next_float(), rng.next_float(), V3f(0, 0, -1), rng)
+            .radiance.x;
     ref += v;
     ref2 += v * v;
   }
@@ -1238,7 +1242,7 @@ TEST(Stability, BakeTexelResolutionExtremes) {
     bs.directions = 3;
     bs.texels = texels;
     bs.spp = texels >= 512 ? 1 : 16;
-    BakePlan plan = plan_bake(r, bs);
+    BakePlan plan = plan_bake(r.prepared(), bs);
     // Only the node of the normal (the centre of the hemi-octahedral square):
     // the one a straight-down view reads.
     LookupTable& t = plan.objects[0];
@@ -1247,7 +1251,7 @@ TEST(Stability, BakeTexelResolutionExtremes) {
     wanted[centre] = 1;
     t.pack(wanted);
     t.baked = wanted;
-    const std::vector<LookupTable> tables = run_bake(r, plan, bs);
+    const std::vector<LookupTable> tables = run_bake(r.prepared(), plan, bs);
     Audit rgb, alpha;
     double sum = 0, sum2 = 0;
     for (int b = 0; b < texels; ++b)
@@ -1296,9 +1300,10 @@ TEST(Stability, BakeTexelResolutionExtremes) {
     bs.directions = 3;
     bs.texels = texels;
     bs.spp = 1;
-    const std::vector<LookupTable> tables = run_bake(wr, plan_bake(wr, bs), bs);
+    const std::vector<LookupTable> tables =
+        run_bake(wr.prepared(), plan_bake(wr.prepared(), bs), bs);
     std::atomic<uint64_t> misses{0};
-    const Renderer::HitShader shader = lookup_shader(wr, tables, &misses);
+    const Renderer::HitShader shader = lookup_shader(wr.prepared(), tables, &misses);
     const Image img = wr.render_with(&shader);
     expect_sane(audit(img), radiance_bound(wr, woven), "woven lookup-render");
     EXPECT_EQ(misses.load(), 0u);

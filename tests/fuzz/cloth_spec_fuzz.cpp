@@ -1,7 +1,7 @@
 // Fuzz target: a cloth spec, or a scene naming one (io/cloth_spec_json.h), as
 // `clothbake volume` reads it. Paths resolve against tests/fuzz/files/.
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "fuzz_input.h"
 #include "io/cloth_spec_json.h"
 

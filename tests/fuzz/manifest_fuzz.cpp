@@ -2,7 +2,7 @@
 // and `clothbake merge` read it. The images it names are read from
 // tests/fuzz/files/lookup/ (a small bake of testscenes/slab).
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "fuzz_input.h"
 #include "io/lookup_io.h"
 

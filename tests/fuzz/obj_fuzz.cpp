@@ -1,6 +1,6 @@
 // Fuzz target: an OBJ quad mesh (io/obj_reader.h), as a scene's "mesh" is read.
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "fuzz_input.h"
 #include "io/obj_reader.h"
 

@@ -1,7 +1,7 @@
 // Fuzz target: a scene file (io/scene_json.h), as `clothbake render` reads it.
 // Its mesh and cloth-spec paths resolve against tests/fuzz/files/.
 
-#include "core/error.h"
+#include "core/util/error.h"
 #include "fuzz_input.h"
 #include "io/scene_json.h"
 

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/image.h"
-#include "core/volume_texture.h"
+#include "core/util/error.h"
+#include "core/util/image.h"
+#include "core/texture/volume_texture.h"
 #include "io/image_io.h"
 #include "io/vdb_writer.h"
 

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace clothbake::io {
 namespace {

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
+#include "core/util/error.h"
 
 namespace clothbake::io {
 namespace {

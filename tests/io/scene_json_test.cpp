@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "core/error.h"
-#include "core/volume_generator.h"
+#include "core/util/error.h"
+#include "core/texture/volume_generator.h"
 #include "io/cloth_spec_json.h"
 #include "io/vdb_writer.h"
 

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
-#include "core/error.h"
-#include "core/volume_generator.h"
+#include "core/util/error.h"
+#include "core/texture/volume_generator.h"
 #include "io/vdb_writer.h"
 
 namespace clothbake::io {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
-#include "core/volume_generator.h"
+#include "core/texture/volume_generator.h"
 
 namespace clothbake::io {
 namespace {

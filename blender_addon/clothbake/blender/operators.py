@@ -19,6 +19,7 @@ import time
 import bpy
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
+from ..core.defaults import folder_siblings
 from ..core.errors import ClothbakeError
 from ..core.scene import load_scene
 from . import prefs
@@ -184,8 +185,8 @@ CONFIRM_SECONDS = 60.0
 def _clean_after_kill(bake_dir, pid):
     """What a killed bake may leave (docs/lookup-format.md "Folder layout"):
     its temporary folder, or an old folder half swapped out."""
-    shutil.rmtree(f"{bake_dir}.tmp-{pid}", ignore_errors=True)
-    old = f"{bake_dir}.old-{pid}"
+    temp, old = folder_siblings(bake_dir, pid)
+    shutil.rmtree(temp, ignore_errors=True)
     if os.path.isdir(old):
         if os.path.isdir(bake_dir):
             shutil.rmtree(old, ignore_errors=True)

@@ -16,7 +16,9 @@ import bpy
 
 from ..core import cloth_fields
 from ..core.errors import ClothbakeError
-from ..core.scene_export import FIBER_MODELS, RENDER_DEFAULTS, SHADINGS, TRANSMITTANCES
+from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, RENDER_DEFAULTS,
+                             TEXELS_PER_PIXEL_MAX, TEXELS_RANGE)
+from ..core.scene_export import FIBER_MODELS, SHADINGS, TRANSMITTANCES
 
 _loading = False  # true while fields are filled from a spec: not an edit
 
@@ -244,18 +246,21 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
         name="Adaptive", default=True,
         description="Bake only what the scene's camera sees, at the resolution it sees it "
                     "(otherwise every quad and direction at the texels below)")
-    directions: bpy.props.IntProperty(name="Directions (K)", default=8, min=2, max=64,
+    directions: bpy.props.IntProperty(name="Directions (K)", default=8, min=DIRECTIONS_RANGE[0],
+                                      max=DIRECTIONS_RANGE[1],
                                       description="Direction nodes per side of each hemisphere")
     # Defaults for a first bake of about a minute (issue 13): a full bake of
     # a 64-quad plane at K = 8 took 8 to 10 minutes at 64 texels and 4
     # samples; at 32 texels (what docs/results.md recommends for full bakes)
     # and 2 samples the program estimates 62 s on the 2-core machine.
-    texels: bpy.props.IntProperty(name="Texels", default=32, min=1, max=4096,
+    texels: bpy.props.IntProperty(name="Texels", default=32, min=TEXELS_RANGE[0],
+                                  max=TEXELS_RANGE[1],
                                   description="Texels per quad side (full bake)")
-    bake_spp: bpy.props.IntProperty(name="Samples per texel", default=2, min=1, max=4096,
+    bake_spp: bpy.props.IntProperty(name="Samples per texel", default=2, min=BAKE_SPP_RANGE[0],
+                                    max=BAKE_SPP_RANGE[1],
                                     description="Jittered sub-texel samples per texel")
     texels_per_pixel: bpy.props.FloatProperty(
-        name="Texels per pixel", default=1.5, min=0.01, max=64.0,
+        name="Texels per pixel", default=1.5, min=0.01, max=TEXELS_PER_PIXEL_MAX,
         description="Adaptive: texels per projected pixel along a quad edge")
     compare_samples: bpy.props.IntProperty(name="Compare samples", default=16, min=1,
                                            max=65536,
@@ -264,18 +269,22 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
     render_spp: bpy.props.IntProperty(name="Reference samples", default=RENDER_DEFAULTS["spp"],
                                       min=1, max=65536,
                                       description="Samples per pixel of clothbake render")
-    step_cells: bpy.props.FloatProperty(name="Step (cells)", default=0.5, min=1e-4, max=16.0,
+    step_cells: bpy.props.FloatProperty(name="Step (cells)", default=RENDER_DEFAULTS["step_cells"],
+                                        min=1e-4, max=16.0,
                                         description="March step, fraction of a cell edge")
     fiber_model: bpy.props.EnumProperty(name="Fibre model", items=_items(FIBER_MODELS),
                                         default=RENDER_DEFAULTS["fiber_model"])
-    fiber_samples: bpy.props.IntProperty(name="Fibre samples", default=64, min=1, max=65536)
+    fiber_samples: bpy.props.IntProperty(name="Fibre samples",
+                                         default=RENDER_DEFAULTS["fiber_samples"], min=1,
+                                         max=65536)
     transmittance: bpy.props.EnumProperty(name="Transmittance", items=_items(TRANSMITTANCES),
                                           default=RENDER_DEFAULTS["transmittance"])
     shading: bpy.props.EnumProperty(name="Shading", items=_items(SHADINGS),
                                     default=RENDER_DEFAULTS["shading"])
-    cutoff: bpy.props.FloatProperty(name="Cutoff", default=0.001, min=0.0, max=0.999,
+    cutoff: bpy.props.FloatProperty(name="Cutoff", default=RENDER_DEFAULTS["cutoff"], min=0.0,
+                                    max=0.999,
                                     precision=4)
-    render_seed: bpy.props.IntProperty(name="Seed", default=1, min=0)
+    render_seed: bpy.props.IntProperty(name="Seed", default=RENDER_DEFAULTS["seed"], min=0)
     # Status of the last bake / comparison, for the panel.
     bake_running: bpy.props.BoolProperty(default=False)
     bake_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0, subtype="FACTOR")

@@ -11,13 +11,13 @@ import struct
 
 from .errors import ClothbakeError
 
-# Named drafts of baker/core/weave.cpp, plus "uniform" (a homogeneous slab,
+# Named drafts of baker/core/weave/weave.cpp, plus "uniform" (a homogeneous slab,
 # for analytic checks) and "draft" (an explicit weave.draft matrix, which the
 # panel cannot edit: it comes from the spec file).
 WEAVES = ("plain", "twill_2_1", "twill_2_2", "satin_5", "satin_8", "basket_2x2", "uniform")
 DRAFT = "draft"
 
-_YARN = (  # key, default warp, default weft (baker/core/cloth_spec.h)
+_YARN = (  # key, default warp, default weft (baker/core/weave/cloth_spec.h)
     ("spacing_mm", 0.5, 0.5),
     ("width_mm", 0.44, 0.44),
     ("thickness_mm", 0.18, 0.18),

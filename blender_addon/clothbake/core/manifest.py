@@ -1,6 +1,6 @@
 """Reading a lookup folder's manifest.json (docs/lookup-format.md, version 2).
 
-Checks what clothbake's own reader checks (baker/io/lookup_io.cpp), so a
+Checks what clothbake's own reader checks (baker/io/lookup_manifest.cpp), so a
 broken or foreign lookup is refused with the file and field named, before
 Blender loads a single image.
 """
@@ -12,9 +12,10 @@ from dataclasses import dataclass, field
 from .directions import HEMI_OCTAHEDRAL, POLAR
 from .errors import ClothbakeError
 from .exr import check_exr
-from . import mesh_summary
+from . import defaults, mesh_summary
 
 FORMAT = "clothbake-lookup"
+K_RANGE = defaults.DIRECTIONS_RANGE
 VERSION = 2
 _MAPS = {HEMI_OCTAHEDRAL: "corners", POLAR: "polar"}
 
@@ -132,7 +133,7 @@ def read_manifest(folder):
     if nodes != _MAPS[kind]:
         raise ClothbakeError(f"must be '{_MAPS[kind]}' for a {kind} map, got '{nodes}'",
                              path, "direction_map.nodes")
-    k = _int(dmap, "k", path, "direction_map.", 2, 64)
+    k = _int(dmap, "k", path, "direction_map.", *K_RANGE)
 
     settings = root.get("settings", {})
     lights = root.get("lights", [])

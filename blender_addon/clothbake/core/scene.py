@@ -10,6 +10,7 @@ import json
 import math
 import os
 
+from . import defaults
 from .cloth_fields import fields_from_spec
 from .errors import ClothbakeError
 
@@ -17,7 +18,7 @@ CAMERA_DEFAULTS = {"position": [0.0, 0.0, 5.0], "look_at": [0.0, 0.0, 0.0], "up"
                    "fov_deg": 40.0, "fov_axis": "horizontal", "resolution": [426, 266]}
 OBJECT_DEFAULTS = {"repeats_per_uv": 40.0, "thickness_world": 0.01, "extinction_per_mm": 40.0,
                    "isotropic_albedo": [0.8, 0.8, 0.8]}
-RENDER_DEFAULTS = {"spp": 4}
+RENDER_DEFAULTS = defaults.RENDER_DEFAULTS  # the program's (core/defaults.py)
 FIBER_MODELS = ("ellipsoid", "table", "kajiya-kay")
 TRANSMITTANCES = ("shadow-march", "cached")
 SHADINGS = ("fiber", "isotropic")
@@ -194,7 +195,7 @@ def _normalized(a):
 
 
 def camera_basis(cam):
-    """(right, up, forward) unit vectors, as baker/core/camera.cpp builds them."""
+    """(right, up, forward) unit vectors, as baker/core/geometry/camera.cpp builds them."""
     forward = _normalized(_sub(cam["look_at"], cam["position"]))
     right = _cross(forward, cam["up"])
     if math.sqrt(sum(c * c for c in right)) <= 1e-6 * math.sqrt(sum(c * c for c in cam["up"])):

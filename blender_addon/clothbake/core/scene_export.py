@@ -14,14 +14,14 @@ import math
 import os
 import re
 
+from . import defaults
 from .cloth_fields import short_float
 from .errors import ClothbakeError
 from .obj import QuadMeshData, format_obj, read_obj
 from .scene import (FIBER_MODELS, POINT_WATTS_PER_IRRADIANCE, SHADINGS, TRANSMITTANCES,
                     camera_basis, load_scene)
 
-RENDER_DEFAULTS = {"spp": 4, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
-                   "transmittance": "cached", "shading": "fiber", "cutoff": 0.001, "seed": 1}
+RENDER_DEFAULTS = defaults.RENDER_DEFAULTS  # the program's (core/defaults.py)
 OBJECT_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
 
 # Relative tolerance under which a number is taken to be the hint's number

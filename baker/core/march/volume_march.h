@@ -1,0 +1,64 @@
+#pragma once
+/// The view-ray march of Kimoto & Ohno section 5 (PAPER.md s.5) through one
+/// volume texture, in texture space: the cells along the ray are listed by a
+/// 3-D DDA (cell_walk.h), equally spaced samples are placed on the ray, and
+/// each sample with fibre in its cell is lit by every light through the cloth
+/// and shaded; samples are composited front to back with opacity
+/// 1 - exp(-sigma rho dt), so the sum stays bounded for any step.
+
+#include <cstdint>
+#include <span>
+
+#include <Imath/ImathVec.h>
+
+#include "core/fiber/fiber_shader.h"
+#include "core/march/light_transmittance.h"
+#include "core/march/march_settings.h"
+#include "core/texture/volume_texture.h"
+
+namespace clothbake {
+
+/// Lights one march handles (more are ignored; the scene reader refuses them).
+inline constexpr size_t k_max_march_lights = 8;
+
+/// One light as seen from the march's quad.
+struct MarchLight {
+  Imath::V3f to_light_texture;  ///< unit, texture space: the shadow march direction
+  Imath::V3f to_light_local;    ///< unit, local orthonormal frame: for shading
+  Imath::V3f irradiance;        ///< arriving at the cloth, before the cloth's own attenuation
+  const TransmittanceCache* cache = nullptr;  ///< null: march toward the light at every sample
+  float cache_depth_scale = 1.0f;  ///< TransmittanceCache::depth_scale_for(to_light_texture)
+};
+
+struct MarchInput {
+  const VolumeTexture* volume = nullptr;
+  const FiberShader* shader = nullptr;
+  Imath::V3f entry_texture;  ///< where the ray enters the volume (top face, or bottom from behind)
+  Imath::V3f dir_texture;    ///< unit, texture space
+  float length_mm = 0.0f;    ///< length of the ray inside the volume
+  Imath::V3f to_eye_local;   ///< unit, local frame
+  Imath::V3f mm_per_world;   ///< the frame's scales: carry fibre tangents to the local frame
+  std::span<const MarchLight> lights;
+  float extinction_per_mm = 40.0f;
+  float step_mm = 0.01f;
+  float cutoff = 1e-3f;
+  float jitter = 0.5f;  ///< first sample at jitter * step, jitter in [0, 1)
+  ShadingMode shading = ShadingMode::Fiber;
+  Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
+  uint64_t seed = 0;  ///< for the direct ellipsoid model's jitter and the roulette
+  /// Russian roulette on the light: once the view transmittance in front of a
+  /// sample is below this, its lights are evaluated only with probability
+  /// transmittance / roulette (and then weighted by the inverse). 0: always.
+  float roulette = 0.0f;
+};
+
+struct MarchResult {
+  Imath::V3f radiance{0, 0, 0};  ///< light leaving toward the eye
+  float transmittance =
+      1.0f;         ///< un-absorbed fraction: the see-through (0 when stopped at the cutoff)
+  int samples = 0;  ///< samples shaded (with fibre in their cell)
+};
+
+MarchResult march_view_ray(const MarchInput& in);
+
+}  // namespace clothbake

@@ -1,0 +1,75 @@
+#include "core/weave/cloth_spec.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/util/error.h"
+#include "core/weave/weave.h"
+
+namespace clothbake {
+
+namespace {
+void require(bool ok, const std::string& field, const std::string& what) {
+  if (!ok) throw InputError(field, what);
+}
+void finite_range(float v, float lo, float hi, const std::string& field) {
+  require(std::isfinite(v), field, "must be a finite number");
+  require(v >= lo && v <= hi, field,
+          "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+              std::to_string(v));
+}
+void positive(float v, const std::string& field) {
+  require(std::isfinite(v), field, "must be a finite number");
+  require(v > 0.0f, field, "must be greater than 0, got " + std::to_string(v));
+}
+void validate_yarn(const YarnSpec& y, const std::string& f) {
+  positive(y.spacing_mm, f + ".spacing_mm");
+  positive(y.width_mm, f + ".width_mm");
+  positive(y.thickness_mm, f + ".thickness_mm");
+  require(y.width_mm <= 2.0f * y.spacing_mm, f + ".width_mm",
+          "must be at most twice spacing_mm (yarns would overlap their second neighbour)");
+  for (int c = 0; c < 3; ++c) finite_range(y.color[c], 0.0f, 1.0f, f + ".color");
+  finite_range(y.twist_deg, 0.0f, 89.0f, f + ".twist_deg");
+  positive(y.ply_pitch_mm, f + ".ply_pitch_mm");
+}
+}  // namespace
+
+void validate(const ClothSpec& spec) {
+  // The draft constructor checks shape and interlacing and names the field.
+  if (spec.draft.empty() && spec.pattern == k_uniform_pattern) {
+    // no draft: a homogeneous slab
+  } else if (spec.draft.empty())
+    (void)WeaveDraft::named(spec.pattern);
+  else
+    (void)WeaveDraft(spec.draft);
+  validate_yarn(spec.warp, "warp");
+  validate_yarn(spec.weft, "weft");
+  finite_range(spec.crimp, 0.0f, 2.0f, "crimp");
+  finite_range(spec.angle_spread_deg, 0.0f, 45.0f, "angle_spread_deg");
+
+  const DensitySpec& d = spec.density;
+  finite_range(d.core, 1e-6f, 1.0f, "density.core");
+  finite_range(d.edge, 0.0f, d.core, "density.edge");
+  positive(d.falloff, "density.falloff");
+  finite_range(d.top_factor, 1e-6f, 1.0f, "density.top_factor");
+  finite_range(d.noise_amplitude, 0.0f, 1.0f, "density.noise_amplitude");
+  positive(d.noise_scale_mm, "density.noise_scale_mm");
+
+  const ShadingSpec& s = spec.shading;
+  finite_range(s.specular_top, 0.0f, 1.0f, "shading.specular_top");
+  finite_range(s.specular_bottom, 0.0f, 1.0f, "shading.specular_bottom");
+  finite_range(s.diffuse_top, 0.0f, 1.0f, "shading.diffuse_top");
+  finite_range(s.diffuse_bottom, 0.0f, 1.0f, "shading.diffuse_bottom");
+  finite_range(s.exponent, 1e-3f, 10000.0f, "shading.exponent");
+  finite_range(s.variation, 0.0f, 1.0f, "shading.variation");
+  finite_range(s.fiber_aspect, 1.0f, 1000.0f, "shading.fiber_aspect");
+
+  const ResolutionSpec& r = spec.resolution;
+  require(r.cells_x >= 1, "resolution.cells_x", "must be at least 1");
+  require(r.cells_y >= 1, "resolution.cells_y", "must be at least 1");
+  require(r.layers >= 1, "resolution.layers", "must be at least 1");
+  require(r.supersample >= 1 && r.supersample <= 8, "resolution.supersample",
+          "must be in [1, 8], got " + std::to_string(r.supersample));
+}
+
+}  // namespace clothbake
