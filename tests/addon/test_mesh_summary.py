@@ -1,5 +1,5 @@
 """The mesh summary a lookup records (docs/lookup-format.md, objects[o].mesh):
-the add-on computes the same numbers as clothbake (baker/core/mesh_summary.cpp)
+the add-on computes the same numbers as clothbake (baker/core/geometry/mesh_summary.cpp)
 and tells a moved vertex from an OBJ round trip."""
 import math
 import os
@@ -9,7 +9,7 @@ from clothbake.core import mesh_summary
 from clothbake.core.manifest import read_manifest
 from clothbake.core.obj import read_obj
 
-# The two quads of tests/core/mesh_summary_test.cpp: a unit square and a
+# The two quads of tests/core/geometry/mesh_summary_test.cpp: a unit square and a
 # square lifted at one corner.
 POSITIONS = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0), (2, 1, 0.5)]
 UVS = [(0, 0), (0.5, 0), (0.5, 1), (0, 1), (1, 0), (1, 1)]
