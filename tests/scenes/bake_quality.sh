@@ -18,11 +18,19 @@ if [[ ${1:-} == --fixed-bound ]]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-dir=$(dirname "$scene")
-sed 's/"seed": *[0-9]*/"seed": 2/' "$scene" >"$dir/.bake_quality_seed2.$$.json"
-trap 'rm -rf "$tmp" "$dir/.bake_quality_seed2.$$.json"' EXIT
+# The seed-2 scene goes into the temporary folder, its files named by
+# absolute paths (it used to be written beside the scene, into the source tree).
+sed 's/"seed": *[0-9]*/"seed": 2/' "$scene" | /usr/bin/python3 -c '
+import json, os, sys
+folder = os.path.dirname(os.path.abspath(sys.argv[1]))
+scene = json.load(sys.stdin)
+for o in scene["objects"]:
+    for key in ("mesh", "cloth", "volume"):
+        if isinstance(o.get(key), str):
+            o[key] = os.path.join(folder, o[key])
+json.dump(scene, sys.stdout)' "$scene" >"$tmp/seed2.json"
 "$exe" render "$scene" -o "$tmp/render1.exr" --quiet
-[[ -n $fixed ]] || "$exe" render "$dir/.bake_quality_seed2.$$.json" -o "$tmp/render2.exr" --quiet
+[[ -n $fixed ]] || "$exe" render "$tmp/seed2.json" -o "$tmp/render2.exr" --quiet
 "$exe" bake "$scene" -o "$tmp/bake" --quiet "$@" >"$tmp/bake.json"
 "$exe" lookup-render "$scene" "$tmp/bake" -o "$tmp/lookup.exr" --quiet
 if [[ -n $fixed ]]; then
