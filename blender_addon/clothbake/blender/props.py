@@ -252,7 +252,7 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
     # Defaults for a first bake of about a minute (issue 13): a full bake of
     # a 64-quad plane at K = 8 took 8 to 10 minutes at 64 texels and 4
     # samples; at 32 texels (what docs/results.md recommends for full bakes)
-    # and 2 samples the program estimates 62 s on the 2-core machine.
+    # and 2 samples it takes 58 s on the idle 2-core machine (estimate: 60 s).
     texels: bpy.props.IntProperty(name="Texels", default=32, min=TEXELS_RANGE[0],
                                   max=TEXELS_RANGE[1],
                                   description="Texels per quad side (full bake)")
