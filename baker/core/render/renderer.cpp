@@ -10,6 +10,7 @@
 
 #include "core/march/volume_march.h"
 #include "core/util/error.h"
+#include "core/util/stopwatch.h"
 #include "core/util/random.h"
 
 namespace clothbake {
@@ -18,10 +19,6 @@ namespace {
 using Imath::V3f;
 constexpr int k_bin_px = 16;      // screen tile size for camera-ray binning
 constexpr int k_max_layers = 16;  // cloth layers one ray may cross
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 uint64_t render_image_bytes(const PinholeCamera& camera) {
@@ -49,12 +46,10 @@ Renderer::Renderer(ClothScene& prepared) : m_prepared(prepared) {
 
 Renderer::Renderer(const Scene& scene, uint64_t memory_budget_bytes,
                    std::vector<std::shared_ptr<const VolumeTexture>> volumes)
-    : m_owned(std::make_unique<ClothScene>(scene, memory_budget_bytes, std::move(volumes))),
-      m_prepared(*m_owned) {
-  const auto t0 = std::chrono::steady_clock::now();
-  build_bins();
-  m_bins_seconds = seconds_since(t0);
-  m_stats.setup_seconds = m_prepared.setup_seconds() + m_bins_seconds;
+    : Renderer(std::make_unique<ClothScene>(scene, memory_budget_bytes, std::move(volumes))) {}
+
+Renderer::Renderer(std::unique_ptr<ClothScene> owned) : Renderer(*owned) {
+  m_owned = std::move(owned);
 }
 
 Renderer::~Renderer() = default;

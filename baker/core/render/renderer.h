@@ -85,6 +85,8 @@ class Renderer {
                            const HitShader* shader) const;
   void build_bins();
 
+  explicit Renderer(std::unique_ptr<ClothScene> owned);  // renders and keeps `owned`
+
   std::unique_ptr<ClothScene> m_owned;  // set by the second constructor only
   ClothScene& m_prepared;
   // Screen-space bins of quads for camera rays: tile -> (object, quad) list.

@@ -7,15 +7,12 @@
 
 #include "core/march/cell_walk.h"
 #include "core/texture/volume_generator.h"
+#include "core/util/stopwatch.h"
 
 namespace clothbake {
 
 namespace {
 using Imath::V3f;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 struct ClothScene::Object {
