@@ -17,6 +17,7 @@ int run_cli(int argc, const char* const* argv, Action action, std::ostream& out,
   register_merge_command(app, action);
   register_bake_command(app, action);
   register_lookup_render_command(app, action);
+  register_material_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -19,6 +19,8 @@
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "io/lookup_io.h"
+#include "io/material_io.h"
+#include "core/material/material_shader.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
 #include "io/system_info.h"
@@ -40,6 +42,46 @@ void check_lookup_render_args(const LookupRenderArgs& args) {
     throw InputError("-o", "the output must be an .exr file, got '" + args.out_exr + "'");
 }
 
+/// The scene rendered from a cloth material (a material folder's manifest):
+/// every cloth object must be of the material's cloth and optics.
+void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t budget) {
+  io::MaterialInfo info;
+  const ClothMaterial material = io::read_material(args.bake_dir, info);
+  if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
+  std::unique_ptr<Renderer> renderer;
+  try {
+    renderer = std::make_unique<Renderer>(scene, budget);
+  } catch (const InputError& e) {
+    throw e.in_file(args.scene);
+  }
+  const ClothScene& prepared = renderer->prepared();
+  const std::string manifest = args.bake_dir + "/manifest.json";
+  for (int o = 0; o < prepared.object_count(); ++o) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)prepared.volume(o).content_hash());
+    if (info.cloth_hash != hex)
+      throw InputError("objects[" + std::to_string(o) + "].cloth",
+                       "is not the material's cloth: its volume texture hashes to " +
+                           std::string(hex) + ", the material (" + manifest + ") was baked from '" +
+                           info.cloth_name + "' with hash " + info.cloth_hash,
+                       args.scene);
+    try {
+      check_material_fits(prepared, o, material);
+    } catch (const InputError& e) {
+      throw InputError(e.field(), e.message() + " (material " + manifest + ")", args.scene);
+    }
+  }
+  const std::vector<const ClothMaterial*> materials(size_t(prepared.object_count()), &material);
+  const SurfaceShader shader = material_shader(prepared, materials);
+  io::ProgressBar bar("lookup-render", args.quiet);
+  const Image image = renderer->render_with(&shader, [&](double f) { bar.update(f); });
+  bar.finish();
+  io::write_render_images(args.out_exr, args.out_png, image);
+  if (!args.quiet)
+    std::fprintf(stderr, "lookup-render: material, pixel loop %.3f s, setup %.3f s\n",
+                 renderer->stats().render_seconds, renderer->stats().setup_seconds);
+}
+
 void run_lookup_render(const LookupRenderArgs& args) {
   const auto threads = limit_threads(args.threads);
   // Step 1: everything is read and checked before any work or output.
@@ -53,6 +95,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }
+  if (io::is_material_folder(args.bake_dir)) return run_material_render(args, scene, budget);
   io::LookupInfo info;
   const std::vector<LookupTable> tables =
       io::read_lookup(args.bake_dir, info, io::scene_fingerprint(scene));

@@ -21,5 +21,6 @@ void register_compare_command(CLI::App& app, Action action);
 void register_merge_command(CLI::App& app, Action action);
 void register_bake_command(CLI::App& app, Action action);
 void register_lookup_render_command(CLI::App& app, Action action);
+void register_material_command(CLI::App& app, Action action);
 
 }  // namespace clothbake::cli

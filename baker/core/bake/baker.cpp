@@ -32,28 +32,11 @@ void check_settings(const BakeSettings& s) {
     throw InputError("texels_per_pixel", "must be in (0, 64]");
 }
 
-/// The direction a node is baked from: its own, except on the horizon, where
-/// a ray parallel to the surface never enters the volume; there the node
-/// holds the limit toward the horizon, taken at 1 degree of elevation.
-V3f bake_direction(V3f d, int side) {
-  const float min_z = 0.0174524f;  // sin(1 degree)
-  if (std::fabs(d.z) >= min_z) return d;
-  const float xy = std::sqrt(std::max(0.0f, 1.0f - min_z * min_z));
-  const float len = std::hypot(d.x, d.y);
-  // The node's side, not the sign of its z: horizon nodes have z = -0 (back,
-  // hemi-octahedral) or -+4e-8 (polar, cos(float(pi/2)) < 0), which baked
-  // the back horizon from the front (and polar's front from the back); the
-  // lookup then showed the lit side at grazing back views, 14 x too bright
-  // (tests/core/stability_test.cpp, LookupCoarseKAtGrazingViews).
-  const float sign = side == 1 ? -1.0f : 1.0f;
-  return len > 0.0f ? V3f(d.x / len * xy, d.y / len * xy, sign * min_z) : V3f(0, 0, sign);
-}
-
 /// The view direction, in the quad's frame, that `node` is baked from.
 V3f node_to_eye(const DirectionGrid& dirs, int node) {
   const int side = node / dirs.nodes_per_side();
   const int rem = node % dirs.nodes_per_side();
-  return bake_direction(dirs.node_direction(side, rem % dirs.k, rem / dirs.k), side);
+  return dirs.bake_direction(side, rem % dirs.k, rem / dirs.k);
 }
 
 /// One march sample: a jittered point of texel (a, b)'s footprint toward

@@ -37,6 +37,21 @@ V3f DirectionGrid::node_direction(int side, int i, int j) const {
   return d;
 }
 
+V3f DirectionGrid::bake_direction(int side, int i, int j) const {
+  const V3f d = node_direction(side, i, j);
+  const float min_z = 0.0174524f;  // sin(1 degree)
+  if (std::fabs(d.z) >= min_z) return d;
+  const float xy = std::sqrt(std::max(0.0f, 1.0f - min_z * min_z));
+  const float len = std::hypot(d.x, d.y);
+  // The node's side, not the sign of its z: horizon nodes have z = -0 (back,
+  // hemi-octahedral) or -+4e-8 (polar, cos(float(pi/2)) < 0), which baked
+  // the back horizon from the front (and polar's front from the back); the
+  // lookup then showed the lit side at grazing back views, 14 x too bright
+  // (tests/core/stability_test.cpp, LookupCoarseKAtGrazingViews).
+  const float sign = side == 1 ? -1.0f : 1.0f;
+  return len > 0.0f ? V3f(d.x / len * xy, d.y / len * xy, sign * min_z) : V3f(0, 0, sign);
+}
+
 DirectionGrid::Footprint DirectionGrid::locate(const V3f& to_eye_in) const {
   // A NaN or infinite direction has no place on either map; it used to give
   // grid indices of INT_MIN (int(NaN)), read out of bounds by

@@ -42,6 +42,17 @@ struct DirectionGrid {
   /// Unit direction of a node (toward the eye, local frame).
   Imath::V3f node_direction(int side, int i, int j) const;
 
+  /// The direction a node is baked from: its own, except on the horizon,
+  /// where a ray parallel to the surface never enters the volume; there the
+  /// node holds the limit toward the horizon, taken at 1 degree of elevation
+  /// on the node's side.
+  Imath::V3f bake_direction(int side, int i, int j) const;
+  /// The same for a node index.
+  Imath::V3f bake_direction(int node) const {
+    const int rem = node % nodes_per_side();
+    return bake_direction(node / nodes_per_side(), rem % k, rem / k);
+  }
+
   /// The four nodes a direction is interpolated from, and the weights.
   /// A non-finite direction is read as the normal (0, 0, 1).
   struct Footprint {

@@ -62,6 +62,9 @@ class TransmittanceCache {
     return depth >= k_opaque_optical_depth ? 0.0f : std::exp(-depth);
   }
   bool empty() const { return m_tau.empty(); }
+  /// The cached optical depth at the centre of cell (i, j, k) (no wrapping):
+  /// for copying the field into another layout (material/light_fields.h).
+  float depth_at(int i, int j, int k) const { return m_tau[(size_t(k) * m_ny + j) * m_nx + i]; }
 
  private:
   int m_nx = 0, m_ny = 0, m_nz = 0;

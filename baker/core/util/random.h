@@ -45,6 +45,7 @@ constexpr uint64_t shade = 0x7368616465ull;        ///< "shade": per-cell shadin
 constexpr uint64_t fiber_table = 0x7461626c65ull;  ///< "table": a fibre shader's table
 constexpr uint64_t roulette = 0x726f756cull;       ///< "roul": the light roulette (march)
 constexpr uint64_t probe = 0x70726f6265ull;        ///< "probe": the bake estimate's samples
+constexpr uint64_t material = 0x6d6174ull;         ///< "mat": a material bake's texel samples
 }  // namespace rng_stream
 
 /// A tiny sequential generator for loops inside one task (e.g. the jittered

@@ -1,0 +1,170 @@
+#include "core/material/cloth_material.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+
+inline void wrap_floor(float g, int n, int& i, float& frac) {
+  const float gw = g - std::floor(g / float(n)) * float(n);
+  i = std::min(int(gw), n - 1);
+  frac = gw - float(i);
+}
+}  // namespace
+
+void ClothMaterial::allocate() {
+  int n_levels = 1;
+  while ((settings.texels >> (n_levels - 1)) > 1) ++n_levels;
+  coefficients.assign(size_t(n_levels), {});
+  alpha.assign(size_t(n_levels), {});
+  const size_t views = size_t(view_count());
+  for (int m = 0; m < n_levels; ++m) {
+    const size_t texels = size_t(level_side(m)) * level_side(m);
+    coefficients[m].assign(views * texels * size_t(max_rank), V3f(0.0f));
+    alpha[m].assign(views * texels, 0.0f);
+  }
+  light_factors.assign(views * size_t(light_count()) * size_t(max_rank), 0.0f);
+  rank.assign(views, 0);
+  error.assign(views, 0.0f);
+}
+
+void ClothMaterial::build_mips() {
+  const size_t views = size_t(view_count());
+  const size_t r = size_t(max_rank);
+  for (int m = 1; m < levels(); ++m) {
+    const int side = level_side(m), fine = level_side(m - 1);
+    const size_t n_fine = size_t(fine) * fine, n = size_t(side) * side;
+    for (size_t v = 0; v < views; ++v)
+      for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) {
+          const size_t t = size_t(y) * side + x;
+          const size_t f[4] = {size_t(2 * y) * fine + 2 * x, size_t(2 * y) * fine + 2 * x + 1,
+                               size_t(2 * y + 1) * fine + 2 * x,
+                               size_t(2 * y + 1) * fine + 2 * x + 1};
+          const float* a = alpha[m - 1].data() + v * n_fine;
+          alpha[m][v * n + t] = 0.25f * ((a[f[0]] + a[f[1]]) + (a[f[2]] + a[f[3]]));
+          for (size_t k = 0; k < r; ++k) {
+            const V3f* c = coefficients[m - 1].data() + v * n_fine * r + k;
+            coefficients[m][(v * n + t) * r + k] =
+                0.25f * ((c[f[0] * r] + c[f[1] * r]) + (c[f[2] * r] + c[f[3] * r]));
+          }
+        }
+  }
+}
+
+V3f ClothMaterial::material_from_texture(const V3f& d) const {
+  return V3f(d.x, d.y, d.z / optics.depth_scale).normalized();
+}
+
+V3f ClothMaterial::texture_from_material(const V3f& d) const {
+  return V3f(d.x, d.y, d.z * optics.depth_scale).normalized();
+}
+
+V3f ClothMaterial::texel_radiance(int level, int view, int node, int x, int y) const {
+  const size_t side = size_t(level_side(level));
+  const size_t r = size_t(max_rank);
+  const V3f* c = coefficients[level].data() + ((size_t(view) * side * side) + size_t(y) * side + x) * r;
+  const float* f = light_factors.data() + (size_t(view) * light_count() + node) * r;
+  V3f sum(0.0f);
+  for (int k = 0; k < rank[view]; ++k) sum += c[k] * f[k];
+  return sum;
+}
+
+float ClothMaterial::texel_alpha(int level, int view, int x, int y) const {
+  const size_t side = size_t(level_side(level));
+  return alpha[level][size_t(view) * side * side + size_t(y) * side + x];
+}
+
+// About 70 lines: the lookup's three interpolations (light nodes folded into
+// per-component weights first, then levels, texels and view nodes).
+MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels, const V3f& to_eye,
+                                 std::span<const Light> lights) const {
+  MarchResult out;
+  const int n_levels = levels();
+  const float level =
+      std::clamp(std::log2(std::max(footprint_texels, 1.0f)), 0.0f, float(n_levels - 1));
+  const int m0 = std::min(int(level), n_levels - 1), m1 = std::min(m0 + 1, n_levels - 1);
+  const float fm = level - float(m0);
+  const DirectionGrid::Footprint vf = view_grid.locate(to_eye);
+  const int views[4] = {view_grid.node_index(vf.side, vf.i0, vf.j0),
+                        view_grid.node_index(vf.side, vf.i1, vf.j0),
+                        view_grid.node_index(vf.side, vf.i0, vf.j1),
+                        view_grid.node_index(vf.side, vf.i1, vf.j1)};
+  const float wv[4] = {(1 - vf.fx) * (1 - vf.fy), vf.fx * (1 - vf.fy), (1 - vf.fx) * vf.fy,
+                       vf.fx * vf.fy};
+  // Light nodes: each light's four nodes and weights, shared by the views.
+  struct LightNodes {
+    int node[4];
+    float w[4];
+    V3f irradiance;
+  };
+  std::array<LightNodes, 8> light_nodes;
+  size_t n_lights = 0;
+  for (const Light& light : lights) {
+    if (n_lights == light_nodes.size()) break;
+    if (!(light.irradiance.x > 0 || light.irradiance.y > 0 || light.irradiance.z > 0)) continue;
+    const DirectionGrid::Footprint lf = light_grid.locate(light.to_light);
+    LightNodes& ln = light_nodes[n_lights++];
+    ln.node[0] = light_grid.node_index(lf.side, lf.i0, lf.j0);
+    ln.node[1] = light_grid.node_index(lf.side, lf.i1, lf.j0);
+    ln.node[2] = light_grid.node_index(lf.side, lf.i0, lf.j1);
+    ln.node[3] = light_grid.node_index(lf.side, lf.i1, lf.j1);
+    ln.w[0] = (1 - lf.fx) * (1 - lf.fy), ln.w[1] = lf.fx * (1 - lf.fy);
+    ln.w[2] = (1 - lf.fx) * lf.fy, ln.w[3] = lf.fx * lf.fy;
+    ln.irradiance = light.irradiance;
+  }
+  const size_t r = size_t(max_rank);
+  const size_t n_nodes = size_t(light_count());
+  thread_local std::vector<V3f> weights;  // per component: the lights folded in
+  weights.resize(r);
+  V3f radiance(0.0f);
+  float alpha_sum = 0.0f;
+  for (int c = 0; c < 4; ++c) {
+    if (wv[c] == 0.0f) continue;
+    const int v = views[c];
+    const int rk = rank[v];
+    std::fill(weights.begin(), weights.begin() + rk, V3f(0.0f));
+    for (size_t l = 0; l < n_lights; ++l) {
+      const LightNodes& ln = light_nodes[l];
+      for (int n = 0; n < 4; ++n) {
+        if (ln.w[n] == 0.0f) continue;
+        const float* f = light_factors.data() + (size_t(v) * n_nodes + ln.node[n]) * r;
+        const V3f e = ln.irradiance * ln.w[n];
+        for (int k = 0; k < rk; ++k) weights[k] += e * f[k];
+      }
+    }
+    for (int mi = 0; mi < 2; ++mi) {
+      const int m = mi == 0 ? m0 : m1;
+      const float wm = mi == 0 ? 1.0f - fm : fm;
+      if (wm == 0.0f) continue;
+      const int side = level_side(m);
+      int xa, ya;
+      float fx, fy;
+      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, side, xa, fx);
+      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, side, ya, fy);
+      const int xb = xa + 1 == side ? 0 : xa + 1, yb = ya + 1 == side ? 0 : ya + 1;
+      const size_t base = size_t(v) * size_t(side) * side;
+      const size_t texel[4] = {base + size_t(ya) * side + xa, base + size_t(ya) * side + xb,
+                               base + size_t(yb) * side + xa, base + size_t(yb) * side + xb};
+      const float wt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+      const float w = wv[c] * wm;
+      for (int t = 0; t < 4; ++t) {
+        if (wt[t] == 0.0f) continue;
+        const V3f* coeff = coefficients[m].data() + texel[t] * r;
+        V3f sum(0.0f);
+        for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
+        radiance += sum * (w * wt[t]);
+        alpha_sum += alpha[m][texel[t]] * (w * wt[t]);
+      }
+    }
+  }
+  out.radiance = radiance;
+  out.transmittance = std::clamp(1.0f - alpha_sum, 0.0f, 1.0f);
+  return out;
+}
+
+}  // namespace clothbake

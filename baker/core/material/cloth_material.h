@@ -1,0 +1,79 @@
+#pragma once
+/// A cloth material: the appearance of one weave repeat for every view and
+/// light direction, prefiltered for every distance (docs/material-format.md).
+///
+/// For view node v, light node n and a texel x of mip level m, radiance per
+/// unit irradiance is stored factorised per view node (a truncated SVD of
+/// that node's texels x RGB by light-node matrix):
+///   L(x, v, n) = sum_k<rank[v] coefficient_m(x, v, k) [RGB] * light_factor(v, n, k),
+/// and alpha (1 - see-through) per (x, v). Level 0 has R x R texels over the
+/// repeat's top face, each the average over its footprint; level m + 1 is the
+/// exact 2 x 2 box average of level m, down to 1 x 1. Since both the
+/// coefficients and alpha are linear in area, a lookup at the footprint's
+/// level is exact prefiltering for fixed directions.
+///
+/// Directions live in the material's frame: texture axes x (weft), y (warp),
+/// z (up), with z divided by the depth scale (material_settings.h), so a
+/// direction d_texture reads as (d.x, d.y, d.z / depth_scale), normalised.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Imath/ImathVec.h>
+
+#include "core/bake/direction_grid.h"
+#include "core/march/volume_march.h"
+#include "core/material/material_settings.h"
+
+namespace clothbake {
+
+class ClothMaterial {
+ public:
+  MaterialSettings settings;  ///< what the bake was asked (texels, directions, spp, error, seed)
+  MaterialOptics optics;      ///< what the appearance depends on besides the volume
+  Imath::V3f repeat_mm{1, 1, 1};  ///< the volume texture's extent: x, y repeat, z thickness
+  DirectionGrid view_grid, light_grid;
+  int max_rank = 0;            ///< coefficient slots per texel (the largest rank)
+  std::vector<int> rank;       ///< per view node
+  std::vector<float> error;    ///< per view node: relative RMSE of its factorisation, level 0
+  /// Per level m (R >> m texels a side): [(view * texels_m + texel) * max_rank + k] RGB.
+  std::vector<std::vector<Imath::V3f>> coefficients;
+  /// Per level: [view * texels_m + texel], texel = y * side + x.
+  std::vector<std::vector<float>> alpha;
+  /// [(view * light_nodes + node) * max_rank + k].
+  std::vector<float> light_factors;
+
+  int texels() const { return settings.texels; }
+  int levels() const { return int(coefficients.size()); }
+  int level_side(int level) const { return std::max(1, settings.texels >> level); }
+  int view_count() const { return 2 * view_grid.nodes_per_side(); }
+  int light_count() const { return 2 * light_grid.nodes_per_side(); }
+  /// Allocates the level arrays for the settings' R, K, KL and max_rank.
+  void allocate();
+  /// Recomputes levels 1.. from level 0 by 2 x 2 box averages.
+  void build_mips();
+
+  /// A texture-space direction in the material's frame (unit).
+  Imath::V3f material_from_texture(const Imath::V3f& d_texture) const;
+  /// The material's frame back to texture space (unit).
+  Imath::V3f texture_from_material(const Imath::V3f& d_material) const;
+
+  struct Light {
+    Imath::V3f to_light;    ///< unit, the material's frame
+    Imath::V3f irradiance;  ///< RGB, arriving at the cloth
+  };
+  /// What the point (x_mm, y_mm) of the repeat's top face shows toward
+  /// `to_eye` (material frame) under `lights`, read at the level whose
+  /// texels are `footprint_texels` level-0 texels wide (trilinear between
+  /// levels, bilinear between texels, view nodes and light nodes).
+  MarchResult shade(float x_mm, float y_mm, float footprint_texels, const Imath::V3f& to_eye,
+                    std::span<const Light> lights) const;
+
+  /// The stored radiance of texel (x, y) of `level` for view node `view` and
+  /// light node `node` (what the factorisation reconstructs), and its alpha.
+  Imath::V3f texel_radiance(int level, int view, int node, int x, int y) const;
+  float texel_alpha(int level, int view, int x, int y) const;
+};
+
+}  // namespace clothbake

@@ -1,0 +1,283 @@
+#include "core/material/material_bake.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <string>
+
+#include <Eigen/Dense>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/march/cell_walk.h"
+#include "core/util/error.h"
+#include "core/util/random.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+
+bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
+
+/// One view node's factorised table at level 0, before the layout's
+/// largest rank is known.
+struct ViewFactors {
+  int rank = 0;
+  float error = 0.0f;
+  std::vector<float> coefficients;  // [texel * rank + k] * 3 + c
+  std::vector<float> light;         // [node * rank + k]
+  std::vector<float> alpha;         // [texel]
+};
+
+/// The truncated SVD of m (rows: texels x RGB, columns: light nodes) through
+/// its Gram matrix m^T m, whose eigenvectors are the right singular vectors:
+/// cheaper than an SVD of the tall matrix (one product of rows x nodes^2,
+/// then an eigensolve of nodes x nodes) and exact to double precision in
+/// the solve. Keeps the smallest rank whose relative Frobenius error is at
+/// most `max_error`. Scaled so that the light factor's entries are of order
+/// 1 and the coefficients of order of a radiance.
+void factorise(const Eigen::MatrixXf& m, float max_error, ViewFactors& out) {
+  const Eigen::Index nodes = m.cols(), rows = m.rows();
+  const Eigen::MatrixXd gram = (m.transpose() * m).cast<double>();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+  const Eigen::VectorXd lambda = eig.eigenvalues().reverse().cwiseMax(0.0);  // descending
+  const double total = lambda.sum();
+  int rank = 0;
+  double kept = 0.0;
+  if (total > 0.0) {
+    const double allowed = double(max_error) * double(max_error) * total;
+    while (rank < nodes && total - kept > allowed) kept += lambda[rank++];
+  }
+  out.rank = rank;
+  out.error = total > 0.0 ? float(std::sqrt(std::max(0.0, total - kept) / total)) : 0.0f;
+  if (rank == 0) return;
+  Eigen::MatrixXf v = eig.eigenvectors().rightCols(rank).rowwise().reverse().cast<float>();
+  // One sign per component: the light factor sums to >= 0 (eigenvectors'
+  // signs are arbitrary; this keeps them reproducible and readable).
+  for (int k = 0; k < rank; ++k)
+    if (v.col(k).sum() < 0.0f) v.col(k) = -v.col(k);
+  const float scale = std::sqrt(float(nodes));
+  const Eigen::MatrixXf u = (m * v) / scale;  // rows x rank
+  v *= scale;
+  const Eigen::Index texels = rows / 3;
+  out.coefficients.resize(size_t(rows) * rank);
+  for (Eigen::Index t = 0; t < texels; ++t)
+    for (int k = 0; k < rank; ++k)
+      for (int c = 0; c < 3; ++c)
+        out.coefficients[(size_t(t) * rank + k) * 3 + c] = u(t * 3 + c, k);
+  out.light.resize(size_t(nodes) * rank);
+  for (Eigen::Index n = 0; n < nodes; ++n)
+    for (int k = 0; k < rank; ++k) out.light[size_t(n) * rank + k] = v(n, k);
+}
+}  // namespace
+
+void check_material_settings(const MaterialSettings& s) {
+  auto range = [](const std::string& field, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+      throw InputError(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                  "], got " + std::to_string(value));
+  };
+  range("texels", s.texels, k_min_material_texels, k_max_material_texels);
+  if (!power_of_two(s.texels))
+    throw InputError("texels", "must be a power of 2 (the mip levels halve it down to 1), got " +
+                                   std::to_string(s.texels));
+  range("directions", s.directions, k_min_material_directions, k_max_material_directions);
+  range("light_directions", s.light_directions, k_min_material_directions,
+        k_max_material_directions);
+  range("spp", s.spp, k_min_material_spp, k_max_material_spp);
+  range("field_supersample", s.field_supersample, 1, 4);
+  if (!(s.max_error >= k_min_material_error && s.max_error <= k_max_material_error))
+    throw InputError("max_error", "must be in [0, 1], got " + std::to_string(s.max_error));
+}
+
+ClothMaterial material_layout(const VolumeTexture& volume, const MaterialOptics& optics,
+                              const MaterialSettings& settings) {
+  ClothMaterial m;
+  m.settings = settings;
+  m.optics = optics;
+  m.repeat_mm = volume.size_mm();
+  m.view_grid.k = settings.directions;
+  m.light_grid.k = settings.light_directions;
+  return m;
+}
+
+std::vector<V3f> material_light_directions(const ClothMaterial& material) {
+  std::vector<V3f> out(size_t(material.light_count()));
+  for (int n = 0; n < material.light_count(); ++n) out[n] = material.light_grid.bake_direction(n);
+  return out;
+}
+
+NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
+                               const FiberShader& shader, const LightFieldSet& fields,
+                               std::span<const V3f> light_local, int view, int x, int y, int k) {
+  const MaterialSettings& s = material.settings;
+  const MaterialOptics& o = material.optics;
+  Rng rng(hash_key(s.seed, rng_stream::material, uint64_t(view), uint64_t(x), uint64_t(y),
+                   uint64_t(k)));
+  const V3f size = volume.size_mm();
+  const float px = (float(x) + rng.next_float()) / float(s.texels) * size.x;
+  const float py = (float(y) + rng.next_float()) / float(s.texels) * size.y;
+  const V3f to_eye = material.view_grid.bake_direction(view);
+  NodeMarchInput in;
+  in.volume = &volume;
+  in.shader = &shader;
+  in.fields = &fields;
+  in.to_light_local = light_local;
+  in.to_eye_local = to_eye;
+  in.depth_scale = o.depth_scale;
+  in.dir_texture = -material.texture_from_material(to_eye);
+  // The entry as ClothScene::shade_surface places it: the top-face point
+  // from the front; from behind, the bottom face below it along the ray.
+  const V3f top(px, py, size.z);
+  const float cap = march_cap_mm(volume);
+  in.entry_texture = top;
+  if (in.dir_texture.z < 0.0f) {
+    in.length_mm = distance_to_exit(volume, top, in.dir_texture, cap);
+  } else {
+    in.length_mm = std::min(cap, size.z / in.dir_texture.z);
+    in.entry_texture = top - in.dir_texture * in.length_mm;
+    in.entry_texture.z = 0.0f;
+  }
+  in.extinction_per_mm = o.extinction_per_mm;
+  const V3f cell = volume.cell_size_mm();
+  in.step_mm = o.step_cells * std::min({cell.x, cell.y, cell.z});
+  in.cutoff = o.cutoff;
+  in.jitter = rng.next_float();
+  in.seed = rng.next_u64();
+  in.shading = o.shading;
+  in.isotropic_albedo = o.isotropic_albedo;
+  in.roulette = o.light_roulette;
+  return in;
+}
+
+uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& s,
+                                   int threads) {
+  const uint64_t lights = 2ull * s.light_directions * s.light_directions;
+  const uint64_t texels = uint64_t(s.texels) * s.texels;
+  return LightFieldSet::bytes_for(volume, int(lights), s.field_supersample) +
+         uint64_t(std::max(threads, 1)) * texels * 3 * lights * sizeof(float) * 2;
+}
+
+// About 90 lines: the bake's four steps in order.
+ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shader,
+                            const MaterialOptics& optics, const MaterialSettings& settings,
+                            uint64_t memory_budget, const std::function<void(double)>& progress,
+                            MaterialBakeStats* stats) {
+  check_material_settings(settings);
+  if (!(optics.depth_scale > 0.0f) || !std::isfinite(optics.depth_scale))
+    throw InputError("depth_scale", "must be positive and finite");
+  ClothMaterial material = material_layout(volume, optics, settings);
+  const int n_views = material.view_count(), n_lights = material.light_count();
+  const int R = settings.texels;
+
+  // Step 1: the light fields, one per light node, over the whole repeat.
+  const std::vector<V3f> light_local = material_light_directions(material);
+  std::vector<V3f> light_texture(light_local.size());
+  for (size_t n = 0; n < light_local.size(); ++n)
+    light_texture[n] = material.texture_from_material(light_local[n]);
+  const uint64_t fields_bytes =
+      LightFieldSet::bytes_for(volume, n_lights, settings.field_supersample);
+  if (fields_bytes > memory_budget)
+    throw InputError("memory", "the light fields need " + std::to_string(fields_bytes >> 20) +
+                                   " MiB, over the budget of " +
+                                   std::to_string(memory_budget >> 20) +
+                                   " MiB; lower --light-directions or raise --memory");
+  const LightFieldSet fields = LightFieldSet::build(volume, light_texture,
+                                                    optics.extinction_per_mm,
+                                                    settings.field_supersample);
+
+  // Steps 2 and 3, per view node: march every texel for all light nodes,
+  // then factorise.
+  std::vector<ViewFactors> factors(static_cast<size_t>(n_views));
+  struct Local {
+    NodeMarchScratch scratch;
+    NodeMarchCounts counts;
+    std::vector<V3f> radiance;
+  };
+  tbb::enumerable_thread_specific<Local> locals;
+  std::atomic<uint64_t> table_bytes{0};
+  std::atomic<int> views_done{0};
+  std::mutex progress_mutex;
+  std::atomic<bool> over_budget{false};
+  tbb::parallel_for(0, n_views, [&](int view) {
+    if (over_budget) return;
+    Local& local = locals.local();
+    local.scratch.view_tag = uint32_t(view) + 1;
+    Eigen::MatrixXf m(Eigen::Index(R) * R * 3, n_lights);
+    ViewFactors& f = factors[size_t(view)];
+    f.alpha.assign(size_t(R) * R, 0.0f);
+    local.radiance.resize(size_t(n_lights));
+    const float inv_spp = 1.0f / float(settings.spp);
+    for (int y = 0; y < R; ++y)
+      for (int x = 0; x < R; ++x) {
+        std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
+        float see_through = 0.0f;
+        for (int k = 0; k < settings.spp; ++k) {
+          const NodeMarchInput in =
+              material_sample(material, volume, shader, fields, light_local, view, x, y, k);
+          see_through += in.length_mm > 0.0f
+                             ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
+                                                         local.counts)
+                             : 1.0f;
+        }
+        const Eigen::Index row = (Eigen::Index(y) * R + x) * 3;
+        for (int n = 0; n < n_lights; ++n) {
+          const V3f r = local.radiance[size_t(n)] * inv_spp;
+          m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+        }
+        f.alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
+      }
+    factorise(m, settings.max_error, f);
+    const uint64_t bytes =
+        table_bytes += (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
+    if (fields_bytes + bytes > memory_budget) over_budget = true;
+    const int done = ++views_done;
+    if (progress) {
+      std::lock_guard lock(progress_mutex);
+      progress(double(done) / double(n_views));
+    }
+  });
+  if (over_budget)
+    throw InputError("memory", "the factorised table grew past the budget of " +
+                                   std::to_string(memory_budget >> 20) +
+                                   " MiB; raise --max-error, lower --texels or --directions, or "
+                                   "raise --memory");
+
+  // Step 4: the layout's largest rank, level 0 copied in, the mips.
+  material.max_rank = 0;
+  for (const ViewFactors& f : factors) material.max_rank = std::max(material.max_rank, f.rank);
+  material.allocate();
+  const size_t r = size_t(material.max_rank);
+  const size_t texels = size_t(R) * R;
+  for (int v = 0; v < n_views; ++v) {
+    const ViewFactors& f = factors[size_t(v)];
+    material.rank[v] = f.rank;
+    material.error[v] = f.error;
+    for (size_t t = 0; t < texels; ++t) {
+      material.alpha[0][size_t(v) * texels + t] = f.alpha[t];
+      for (int k = 0; k < f.rank; ++k) {
+        const float* c = &f.coefficients[(t * f.rank + k) * 3];
+        material.coefficients[0][(size_t(v) * texels + t) * r + k] = V3f(c[0], c[1], c[2]);
+      }
+    }
+    for (int n = 0; n < n_lights; ++n)
+      for (int k = 0; k < f.rank; ++k)
+        material.light_factors[(size_t(v) * n_lights + n) * r + k] = f.light[size_t(n) * f.rank + k];
+  }
+  material.build_mips();
+  if (stats) {
+    *stats = MaterialBakeStats{};
+    for (const Local& l : locals) {
+      stats->march_samples += l.counts.samples;
+      stats->fiber_evaluations += l.counts.fiber_evaluations;
+    }
+    stats->rays = uint64_t(n_views) * texels * uint64_t(settings.spp);
+    stats->field_bytes = fields.bytes();
+    stats->uncompressed_values = double(n_views) * double(texels) * n_lights * 3.0;
+  }
+  return material;
+}
+
+}  // namespace clothbake

@@ -1,0 +1,69 @@
+#pragma once
+/// The material bake: one weave repeat's appearance for every view node,
+/// light node and texel (docs/material-format.md), computed from the volume
+/// texture alone (no scene, no lights, no mesh):
+///  1. the transmittance toward every light node, one field each over the
+///     repeat (light_fields.h);
+///  2. per view node, each texel's jittered samples marched once for all
+///     light nodes (node_march.h) into a texels x RGB by light-node matrix;
+///  3. that matrix factorised (truncated SVD through its Gram matrix) to the
+///     smallest rank whose relative error meets `max_error`;
+///  4. the mip levels, box averages of level 0.
+/// Deterministic for any thread count: every texel sample is seeded by its
+/// own indices and each view node is factorised by one thread.
+
+#include <cstdint>
+#include <functional>
+
+#include "core/fiber/fiber_shader.h"
+#include "core/material/cloth_material.h"
+#include "core/material/material_settings.h"
+#include "core/material/node_march.h"
+#include "core/texture/volume_texture.h"
+
+namespace clothbake {
+
+/// Throws InputError naming the field for a setting out of range.
+void check_material_settings(const MaterialSettings& settings);
+
+struct MaterialBakeStats {
+  uint64_t rays = 0;               ///< view marches (texels x spp x view nodes)
+  uint64_t march_samples = 0;      ///< view samples shaded
+  uint64_t fiber_evaluations = 0;  ///< cells x light nodes
+  uint64_t field_bytes = 0;        ///< the light fields
+  double uncompressed_values = 0;  ///< texels x views x lights x RGB at level 0, before the SVD
+};
+
+/// Bytes the bake holds before the factorised table grows: the light fields
+/// and one view's matrix per thread.
+uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& settings,
+                                   int threads);
+
+/// Bakes the material. `memory_budget_bytes` bounds the fields plus the
+/// factorised table as it grows (InputError on "memory" when exceeded).
+/// `progress(fraction)` is called serialised from workers.
+ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shader,
+                            const MaterialOptics& optics, const MaterialSettings& settings,
+                            uint64_t memory_budget_bytes,
+                            const std::function<void(double)>& progress = {},
+                            MaterialBakeStats* stats = nullptr);
+
+/// The march of sample k of texel (x, y) toward view node `view`, exactly as
+/// bake_material runs it (its seeds, jitter and entry point); `material`
+/// supplies the grids and settings, `light_local` the light nodes' bake
+/// directions. For tests: the same march with one light is march_view_ray.
+NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
+                               const FiberShader& shader, const LightFieldSet& fields,
+                               std::span<const Imath::V3f> light_local, int view, int x, int y,
+                               int k);
+
+/// The light nodes' bake directions in the material's frame.
+std::vector<Imath::V3f> material_light_directions(const ClothMaterial& material);
+
+/// A material with the settings' grids and no table: the layout
+/// bake_material fills.
+ClothMaterial material_layout(const VolumeTexture& volume, const MaterialOptics& optics,
+                              const MaterialSettings& settings);
+
+
+}  // namespace clothbake

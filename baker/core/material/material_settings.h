@@ -1,0 +1,52 @@
+#pragma once
+/// What a cloth-material bake is asked to compute (docs/material-format.md),
+/// what its appearance depends on besides the cloth spec, and the ranges each
+/// setting may take. The ranges are stated here once: the core checks them
+/// (bake_material), the manifest reader and the command line use them.
+
+#include <cstdint>
+
+#include <Imath/ImathVec.h>
+
+#include "core/fiber/fiber_model.h"
+#include "core/march/march_settings.h"
+
+namespace clothbake {
+
+inline constexpr int k_min_material_texels = 1, k_max_material_texels = 1024;  ///< R, a power of 2
+inline constexpr int k_min_material_directions = 2, k_max_material_directions = 32;  ///< K, KL
+inline constexpr int k_min_material_spp = 1, k_max_material_spp = 1024;
+inline constexpr float k_min_material_error = 0.0f, k_max_material_error = 1.0f;
+
+/// The sampling and compression of the table.
+struct MaterialSettings {
+  int texels = 64;            ///< R: texels per repeat side at level 0, a power of 2
+  int directions = 8;         ///< K: view nodes per side of each hemisphere's grid
+  int light_directions = 8;   ///< KL: light nodes per side of each hemisphere's grid
+  int spp = 2;                ///< jittered samples per texel and view node
+  float max_error = 0.05f;    ///< per view node: relative RMSE of the factorisation, level 0
+  int field_supersample = 2;  ///< light-transmittance field points per cell edge
+  uint64_t seed = 1;
+};
+
+/// Everything besides the volume texture and the fibre model that changes
+/// what a surface point shows: a scene object that differs in any of these
+/// cannot use the material (it is refused, naming the field).
+struct MaterialOptics {
+  /// Texture mm per world unit along the normal over that along the surface
+  /// (mm_per_world.z / mm_per_world.x, surface_frame.h): how the slab is
+  /// stretched in depth. Directions in the material's frame are carried to
+  /// texture space by (x, y, z * depth_scale).
+  float depth_scale = 1.0f;
+  float extinction_per_mm = 40.0f;
+  ShadingMode shading = ShadingMode::Fiber;
+  Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
+  FiberModelKind fiber_model = FiberModelKind::Table;
+  int fiber_samples = 64;
+  uint64_t fiber_seed = 1;  ///< seeds the fibre table (the scene's render seed)
+  float step_cells = 0.5f;
+  float cutoff = 1e-3f;
+  float light_roulette = 0.25f;
+};
+
+}  // namespace clothbake

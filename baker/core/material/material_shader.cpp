@@ -1,0 +1,120 @@
+#include "core/material/material_shader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "core/util/error.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+
+std::string str(float v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// World width of one pixel per unit distance from the camera.
+float pixel_angle(const PinholeCamera& camera) {
+  const float half = 0.5f * camera.fov_deg * std::numbers::pi_v<float> / 180.0f;
+  const int across = camera.fov_axis == FovAxis::Horizontal ? camera.width : camera.height;
+  return 2.0f * std::tan(half) / float(std::max(across, 1));
+}
+}  // namespace
+
+MaterialOptics object_optics(const ClothScene& prepared, int o) {
+  const Scene& scene = prepared.scene();
+  const ClothObject& obj = scene.objects[size_t(o)];
+  MaterialOptics optics;
+  optics.extinction_per_mm = obj.extinction_per_mm;
+  optics.shading = scene.settings.shading;
+  optics.isotropic_albedo = obj.isotropic_albedo;
+  optics.fiber_model = scene.settings.fiber_model;
+  optics.fiber_samples = scene.settings.fiber_samples;
+  optics.fiber_seed = scene.settings.seed;
+  optics.step_cells = scene.settings.step_cells;
+  optics.cutoff = scene.settings.cutoff;
+  optics.light_roulette = scene.settings.light_roulette;
+  double sum = 0.0;
+  int n = 0;
+  for (int q = 0; q < prepared.quad_count(o); ++q) {
+    const V3f m = prepared.patch(o, q).frame(0.5f, 0.5f).mm_per_world;
+    const float along = std::sqrt(std::fabs(m.x * m.y));
+    if (!(along > 0.0f) || !std::isfinite(m.z / along)) continue;
+    sum += double(m.z / along);
+    ++n;
+  }
+  optics.depth_scale = n > 0 ? float(sum / n) : 1.0f;
+  return optics;
+}
+
+void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial& material) {
+  const MaterialOptics have = object_optics(prepared, o);
+  const MaterialOptics& want = material.optics;
+  const std::string obj = "objects[" + std::to_string(o) + "]";
+  const float rel = std::fabs(have.depth_scale / want.depth_scale - 1.0f);
+  if (!(rel <= k_depth_scale_tolerance))
+    throw InputError(obj + ".thickness_world",
+                     "gives a depth scale (texture mm per world unit along the normal over "
+                     "along the surface) of " + str(have.depth_scale) + ", the material's is " +
+                         str(want.depth_scale) + " (" + str(rel * 100.0f) + "% apart, over " +
+                         str(k_depth_scale_tolerance * 100.0f) +
+                         "%): the thickness, repeats_per_uv or the mesh's UV scale differ; "
+                         "bake a material from this scene");
+  if (std::fabs(have.extinction_per_mm / want.extinction_per_mm - 1.0f) > 1e-6f)
+    throw InputError(obj + ".extinction_per_mm", "is " + str(have.extinction_per_mm) +
+                                                     ", the material was baked at " +
+                                                     str(want.extinction_per_mm));
+  if (have.shading != want.shading)
+    throw InputError("render.shading", "differs from the material's shading mode");
+  if (have.shading == ShadingMode::Fiber && have.fiber_model != want.fiber_model)
+    throw InputError("render.fiber_model", "differs from the material's fibre model");
+  if (have.shading == ShadingMode::Isotropic && !(have.isotropic_albedo == want.isotropic_albedo))
+    throw InputError(obj + ".isotropic_albedo", "differs from the material's");
+}
+
+SurfaceShader material_shader(const ClothScene& prepared,
+                              const std::vector<const ClothMaterial*>& materials,
+                              const MaterialLookupSettings& settings) {
+  const Scene& scene = prepared.scene();
+  const float angle = pixel_angle(scene.camera);
+  const V3f eye = scene.camera.position_world;
+  return [&prepared, &scene, materials, angle, eye, settings](int o, int q, float s, float t,
+                                                              const V3f& ray_dir_world, Rng&) {
+    const ClothMaterial& mat = *materials[size_t(o)];
+    const QuadPatch& patch = prepared.patch(o, q);
+    const SurfaceFrame frame = patch.frame(s, t);
+    const V3f p_world = patch.position_world(s, t);
+    const V3f top = patch.texture_point(s, t);
+    // The pixel's footprint on the surface: its width across the ray at this
+    // distance, stretched by 1 / cos along the tilt; the level is taken from
+    // the geometric mean of the two axes (an isotropic lookup of the
+    // anisotropic footprint).
+    const float cos_view = std::max(std::fabs(ray_dir_world.dot(frame.normal_world)), 0.02f);
+    const float across_world = (p_world - eye).length() * angle;
+    const float mm = std::sqrt(std::fabs(frame.mm_per_world.x * frame.mm_per_world.y));
+    const float footprint_mm = across_world / std::sqrt(cos_view) * mm;
+    const float texel_mm = mat.repeat_mm.x / float(mat.texels());
+    const float footprint_texels = settings.footprint_scale * footprint_mm / texel_mm;
+
+    ClothMaterial::Light lights[k_max_march_lights];
+    size_t n = 0;
+    for (const Light& light : scene.lights) {
+      if (n == k_max_march_lights) break;
+      V3f to_light_world, irradiance;
+      light.illuminate(p_world, to_light_world, irradiance);
+      lights[n].to_light = mat.material_from_texture(frame.texture_from_world(to_light_world));
+      lights[n].irradiance = irradiance;
+      ++n;
+    }
+    const V3f to_eye = mat.material_from_texture(frame.texture_from_world(-ray_dir_world));
+    return mat.shade(top.x, top.y, footprint_texels, to_eye,
+                     std::span<const ClothMaterial::Light>(lights, n));
+  };
+}
+
+}  // namespace clothbake

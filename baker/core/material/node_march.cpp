@@ -1,0 +1,100 @@
+#include "core/material/node_march.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/march/cell_walk.h"
+#include "core/util/random.h"
+
+namespace clothbake {
+
+namespace {
+using Imath::V3f;
+constexpr float k_inv_4pi = 0.25f / std::numbers::pi_v<float>;
+}  // namespace
+
+// Kept parallel to march_view_ray (volume_march.cpp) line by line, so that
+// the two agree sample for sample; tests/core/material_test.cpp holds them
+// together.
+float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMarchScratch& scratch,
+                                NodeMarchCounts& counts) {
+  const VolumeTexture& volume = *in.volume;
+  const size_t n_lights = in.to_light_local.size();
+  scratch.reflect.resize(n_lights);
+  scratch.transmittance.resize(n_lights);
+  V3f* reflect = scratch.reflect.data();
+  float* t_light = scratch.transmittance.data();
+  // The per-cell cache (NodeMarchScratch) holds for deterministic models only.
+  const bool cacheable = in.shading == ShadingMode::Fiber && scratch.view_tag != 0 &&
+                         in.shader->kind() != FiberModelKind::Ellipsoid;
+  const Cell* cells = volume.cells().data();
+  if (cacheable && scratch.tag.size() != volume.cell_count()) {
+    scratch.tag.assign(volume.cell_count(), 0);
+    scratch.response.assign(volume.cell_count() * n_lights * 2, 0.0f);
+  }
+  float t_sample = in.jitter * in.step_mm;
+  float transmittance = 1.0f;
+  int shaded = 0;
+
+  auto shade_cell = [&](const Cell& cell, float, float t1) {
+    if (cell.density <= 0.0f) {
+      if (t_sample < t1) t_sample += std::ceil((t1 - t_sample) / in.step_mm) * in.step_mm;
+      return true;
+    }
+    const float alpha = 1.0f - std::exp(-in.extinction_per_mm * cell.density * in.step_mm);
+    if (t_sample >= t1) return true;
+    const V3f tangent_local =
+        V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
+    if (in.shading == ShadingMode::Isotropic) {
+      for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
+    } else if (cacheable) {
+      const size_t c = size_t(&cell - cells);
+      float* r = scratch.response.data() + c * n_lights * 2;
+      if (scratch.tag[c] != scratch.view_tag) {
+        for (size_t l = 0; l < n_lights; ++l) {
+          const FiberResponse f =
+              in.shader->eval(tangent_local, in.to_light_local[l], in.to_eye_local, 0);
+          r[2 * l] = f.diffuse, r[2 * l + 1] = f.specular;
+        }
+        scratch.tag[c] = scratch.view_tag;
+        counts.fiber_evaluations += n_lights;
+      }
+      for (size_t l = 0; l < n_lights; ++l)
+        reflect[l] = cell.diffuse * r[2 * l] + V3f(cell.specular * r[2 * l + 1]);
+    } else {
+      for (size_t l = 0; l < n_lights; ++l) {
+        const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l],
+                                                in.to_eye_local, hash_key(in.seed, uint64_t(shaded)));
+        reflect[l] = cell.diffuse * f.diffuse + V3f(cell.specular * f.specular);
+      }
+      counts.fiber_evaluations += n_lights;
+    }
+    for (; t_sample < t1; t_sample += in.step_mm) {
+      const V3f p_texture = in.entry_texture + in.dir_texture * t_sample;
+      float light_weight = 1.0f;
+      if (transmittance < in.roulette) {
+        const float p = transmittance / in.roulette;
+        light_weight = unit_float(hash_key(in.seed, rng_stream::roulette, uint64_t(shaded))) < p
+                           ? 1.0f / p
+                           : 0.0f;
+      }
+      if (light_weight > 0.0f) {
+        in.fields->transmittances(p_texture, t_light);
+        const float w = transmittance * alpha * light_weight;
+        for (size_t l = 0; l < n_lights; ++l) radiance[l] += reflect[l] * (t_light[l] * w);
+      }
+      transmittance *= 1.0f - alpha;
+      ++shaded;
+      if (transmittance < in.cutoff) {
+        transmittance = 0.0f;
+        return false;
+      }
+    }
+    return true;
+  };
+  walk_cells(volume, in.entry_texture, in.dir_texture, in.length_mm, shade_cell);
+  counts.samples += uint64_t(shaded);
+  return transmittance;
+}
+
+}  // namespace clothbake

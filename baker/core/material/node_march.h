@@ -1,0 +1,67 @@
+#pragma once
+/// The view march of volume_march.h serving every light node at once: one
+/// walk through the cells along the view ray, and at each sample the
+/// transmittance toward all light nodes from their fields (light_fields.h)
+/// and each cell's fibre response toward all of them. Returns, per light
+/// node, the radiance toward the eye per unit irradiance from that node:
+/// exactly what march_view_ray returns for one light of irradiance 1 whose
+/// transmittance comes from the same field (same seed, same samples, same
+/// roulette decisions, which depend on the view alone).
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Imath/ImathVec.h>
+
+#include "core/fiber/fiber_shader.h"
+#include "core/march/march_settings.h"
+#include "core/material/light_fields.h"
+#include "core/texture/volume_texture.h"
+
+namespace clothbake {
+
+struct NodeMarchInput {
+  const VolumeTexture* volume = nullptr;
+  const FiberShader* shader = nullptr;
+  const LightFieldSet* fields = nullptr;  ///< one field per light node
+  std::span<const Imath::V3f> to_light_local;  ///< per light node, unit, the material's frame
+  Imath::V3f entry_texture;
+  Imath::V3f dir_texture;  ///< unit
+  float length_mm = 0.0f;
+  Imath::V3f to_eye_local;  ///< unit, the material's frame
+  float depth_scale = 1.0f;  ///< carries fibre tangents to the frame: (t.x, t.y, t.z / depth_scale)
+  float extinction_per_mm = 40.0f;
+  float step_mm = 0.01f;
+  float cutoff = 1e-3f;
+  float jitter = 0.5f;
+  ShadingMode shading = ShadingMode::Fiber;
+  Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
+  uint64_t seed = 0;
+  float roulette = 0.0f;
+};
+
+/// Work space a thread reuses between marches (no allocation per ray).
+/// With a deterministic fibre model (the table, Kajiya-Kay) a cell's
+/// response toward every light node depends on the view alone, and the rays
+/// of one view node cross the same cells again and again: the responses are
+/// kept per cell, tagged with `view_tag`, and reused while the tag is the same.
+struct NodeMarchScratch {
+  std::vector<Imath::V3f> reflect;   ///< per light node: the current cell's response
+  std::vector<float> transmittance;  ///< per light node: at the current sample
+  std::vector<float> response;       ///< [cell * lights + l] * 2: diffuse, specular factors
+  std::vector<uint32_t> tag;         ///< per cell: the view_tag its responses are for (0: none)
+  uint32_t view_tag = 0;             ///< set by the caller, unique per view node, > 0
+};
+
+struct NodeMarchCounts {
+  uint64_t samples = 0;           ///< view samples shaded
+  uint64_t fiber_evaluations = 0;  ///< fibre-model evaluations (cells x light nodes)
+};
+
+/// Adds each light node's radiance into radiance[l] (RGB, l < the node
+/// count) and returns the view's transmittance (0 when stopped at the cutoff).
+float march_view_ray_all_lights(const NodeMarchInput& in, Imath::V3f* radiance,
+                                NodeMarchScratch& scratch, NodeMarchCounts& counts);
+
+}  // namespace clothbake

@@ -1,0 +1,44 @@
+#pragma once
+/// A cloth material folder on disk (docs/material-format.md): manifest.json,
+/// one half-float EXR per mip level (the coefficient atlas, alpha first) and
+/// light_factors.exr (float). Written into a temporary sibling folder and
+/// swapped in whole; read back with every field and image checked against the
+/// manifest, errors naming the file and the field.
+
+#include <cstdint>
+#include <string>
+
+#include "core/material/cloth_material.h"
+#include "core/material/material_bake.h"
+
+namespace clothbake::io {
+
+inline constexpr const char* k_material_format_name = "clothbake-material";
+inline constexpr int k_material_format_version = 1;
+
+/// What a material folder records besides the table.
+struct MaterialInfo {
+  std::string cloth_name;
+  std::string cloth_hash;  ///< the volume texture's content hash, 16 hex digits
+  std::string source;      ///< the spec or scene file it was baked from
+  MaterialBakeStats stats;
+  double seconds = 0.0;  ///< the bake's wall time
+  int threads = 0;
+};
+
+/// Bytes the folder's images take uncompressed (half coefficients and alpha,
+/// float light factors): the bound a disk check uses.
+uint64_t material_uncompressed_bytes(const ClothMaterial& material);
+
+/// True when `dir` holds a manifest.json whose format is a material's.
+bool is_material_folder(const std::string& dir);
+
+/// Writes the folder atomically; an existing folder is replaced only if it is
+/// a material or lookup folder (or empty).
+void write_material(const std::string& dir, const ClothMaterial& material,
+                    const MaterialInfo& info);
+
+/// Reads and checks a material folder.
+ClothMaterial read_material(const std::string& dir, MaterialInfo& info);
+
+}  // namespace clothbake::io

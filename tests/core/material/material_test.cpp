@@ -1,0 +1,401 @@
+#include "core/material/material_bake.h"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "core/march/light_transmittance.h"
+#include "core/march/volume_march.h"
+#include "core/material/light_fields.h"
+#include "core/material/material_shader.h"
+#include "core/scene/cloth_scene.h"
+#include "core/texture/volume_generator.h"
+#include "core/util/error.h"
+#include "core/util/random.h"
+
+namespace clothbake {
+namespace {
+
+using Imath::V3f;
+constexpr uint64_t k_budget = uint64_t(1) << 32;
+
+/// The paper's plain weave at a coarse grid (fast), its fibre table.
+ClothSpec small_weave() {
+  ClothSpec spec;
+  spec.resolution = {16, 16, 8, 1};
+  return spec;
+}
+
+/// The same weave at the paper cloth's grid (64 x 64 x 16 cells), where
+/// interpolation errors are measured.
+ClothSpec paper_grid_weave() {
+  ClothSpec spec;
+  spec.resolution = {64, 64, 16, 1};
+  return spec;
+}
+
+struct Fixture {
+  explicit Fixture(const ClothSpec& spec = small_weave()) : volume(generate_volume(spec, k_budget)) {}
+  VolumeTexture volume;
+  FiberShader shader{FiberModelKind::Table, 8.0f, 24.0f, 32, 1};
+};
+
+MaterialSettings tiny_settings() {
+  MaterialSettings s;
+  s.texels = 4;
+  s.directions = 3;
+  s.light_directions = 3;
+  s.spp = 2;
+  s.max_error = 0.0f;
+  s.field_supersample = 1;
+  return s;
+}
+
+// The fields against the exact shadow march (a DDA through the cells) at
+// random points, for light directions from steep to 5 degrees above the
+// surface and from below. Bounds: the mean absolute transmittance error
+// measured on the paper cloth's grid (0.017 at 1 point per cell edge, 0.0082
+// at 2; the worst direction is the one from below) with 1.4 x margin.
+TEST(LightFields, MatchTheShadowMarch) {
+  Fixture f(paper_grid_weave());
+  const float sigma = 40.0f;
+  std::vector<V3f> dirs;
+  for (float elev_deg : {80.0f, 45.0f, 20.0f, 5.0f, -45.0f}) {
+    const float e = elev_deg * std::numbers::pi_v<float> / 180.0f;
+    dirs.push_back(V3f(0.8f * std::cos(e), 0.6f * std::cos(e), std::sin(e)).normalized());
+  }
+  for (int ss : {1, 2}) {
+    const LightFieldSet set = LightFieldSet::build(f.volume, dirs, sigma, ss);
+    std::vector<double> err(dirs.size(), 0.0);
+    const int n = 3000;
+    std::vector<float> t(dirs.size());
+    const V3f size = f.volume.size_mm();
+    for (int i = 0; i < n; ++i) {
+      const V3f p(unit_float(hash_key(1, i, 0)) * size.x, unit_float(hash_key(1, i, 1)) * size.y,
+                  unit_float(hash_key(1, i, 2)) * size.z);
+      set.transmittances(p, t.data());
+      for (size_t d = 0; d < dirs.size(); ++d)
+        err[d] += std::fabs(t[d] - shadow_transmittance(f.volume, p, dirs[d], sigma)) / n;
+    }
+    double worst = 0.0;
+    for (size_t d = 0; d < dirs.size(); ++d) worst = std::max(worst, err[d]);
+    std::printf("supersample %d: mean |dT| per direction:", ss);
+    for (double e : err) std::printf(" %.4f", e);
+    std::printf("\n");
+    EXPECT_LT(worst, ss == 1 ? 0.024 : 0.011) << "supersample " << ss;
+  }
+}
+
+// One view march for every light node gives, per node, what march_view_ray
+// gives for that light alone with the exact shadow march: equal but for the
+// fields' interpolation. On the paper cloth's grid, light nodes above 15
+// degrees, the relative L1 difference measured 0.0163 at 2 field points per
+// cell edge (bound 1.5 x that).
+// Grazing light nodes are measured by the stability suite.
+TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
+  Fixture f(paper_grid_weave());
+  MaterialSettings s = tiny_settings();
+  s.light_directions = 5;
+  MaterialOptics optics;
+  optics.light_roulette = 0.0f;
+  ClothMaterial layout = material_layout(f.volume, optics, s);
+  const std::vector<V3f> light_local = material_light_directions(layout);
+  std::vector<V3f> light_texture;
+  for (const V3f& d : light_local) light_texture.push_back(layout.texture_from_material(d));
+  const LightFieldSet fields = LightFieldSet::build(f.volume, light_texture, 40.0f, 2);
+  NodeMarchScratch scratch;
+  NodeMarchCounts counts;
+  double diff = 0.0, total = 0.0;
+  for (int view = 0; view < layout.view_count(); ++view)
+    for (int x = 0; x < 4; ++x) {
+      const NodeMarchInput in =
+          material_sample(layout, f.volume, f.shader, fields, light_local, view, x, 1, 0);
+      std::vector<V3f> radiance(light_local.size(), V3f(0.0f));
+      scratch.view_tag = uint32_t(view) + 1;
+      const float t_nodes = march_view_ray_all_lights(in, radiance.data(), scratch, counts);
+      for (size_t l = 0; l < light_local.size(); ++l) {
+        MarchLight light;
+        light.to_light_texture = light_texture[l];
+        light.to_light_local = light_local[l];
+        light.irradiance = V3f(1.0f);
+        MarchInput one;
+        one.volume = &f.volume;
+        one.shader = &f.shader;
+        one.entry_texture = in.entry_texture;
+        one.dir_texture = in.dir_texture;
+        one.length_mm = in.length_mm;
+        one.to_eye_local = in.to_eye_local;
+        one.mm_per_world = V3f(1.0f, 1.0f, optics.depth_scale);
+        one.lights = std::span<const MarchLight>(&light, 1);
+        one.extinction_per_mm = in.extinction_per_mm;
+        one.step_mm = in.step_mm;
+        one.cutoff = in.cutoff;
+        one.jitter = in.jitter;
+        one.seed = in.seed;
+        const MarchResult r = march_view_ray(one);
+        EXPECT_EQ(r.transmittance, t_nodes);
+        const V3f d = r.radiance - radiance[l];
+        if (std::fabs(light_local[l].z) < 0.25f) continue;  // grazing: measured apart
+        diff += std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
+        total += r.radiance.x + r.radiance.y + r.radiance.z;
+      }
+    }
+  ASSERT_GT(total, 0.0);
+  std::printf("light nodes above 15 degrees: relative L1 difference %.4f\n", diff / total);
+  EXPECT_LT(diff / total, 0.025);
+}
+
+ClothMaterial bake_tiny(const Fixture& f, MaterialSettings s = tiny_settings()) {
+  return bake_material(f.volume, f.shader, MaterialOptics{}, s, k_budget);
+}
+
+// At full rank (max_error 0) the stored table at a node and texel is the
+// average of that texel's marches for that view and light node, and a
+// lookup at the node's directions, at the texel's centre and level 0,
+// returns it times the irradiance (no interpolation weight off the node).
+TEST(Material, LookupAtNodesEqualsTheMarch) {
+  Fixture f;
+  const MaterialSettings s = tiny_settings();
+  const ClothMaterial m = bake_tiny(f, s);
+  const std::vector<V3f> light_local = material_light_directions(m);
+  std::vector<V3f> light_texture;
+  for (const V3f& d : light_local) light_texture.push_back(m.texture_from_material(d));
+  const LightFieldSet fields =
+      LightFieldSet::build(f.volume, light_texture, m.optics.extinction_per_mm, s.field_supersample);
+  NodeMarchScratch scratch;
+  NodeMarchCounts counts;
+  const V3f irradiance(2.0f, 1.0f, 0.5f);
+  double worst = 0.0;
+  for (int view = 0; view < m.view_count(); ++view)
+    for (int y = 0; y < s.texels; y += 3)
+      for (int x = 0; x < s.texels; x += 2) {
+        std::vector<V3f> radiance(light_local.size(), V3f(0.0f));
+        float see_through = 0.0f;
+        scratch.view_tag = uint32_t(view) + 1;
+        for (int k = 0; k < s.spp; ++k) {
+          const NodeMarchInput in =
+              material_sample(m, f.volume, f.shader, fields, light_local, view, x, y, k);
+          see_through += march_view_ray_all_lights(in, radiance.data(), scratch, counts);
+        }
+        EXPECT_NEAR(m.texel_alpha(0, view, x, y), 1.0f - see_through / s.spp, 1e-6f);
+        // The view node's own direction, as the lookup meets it (not the
+        // 1-degree bake direction of a horizon node, which lies between rows).
+        const int side = view / m.view_grid.nodes_per_side();
+        const int rem = view % m.view_grid.nodes_per_side();
+        const V3f to_eye = m.view_grid.node_direction(side, rem % m.view_grid.k, rem / m.view_grid.k);
+        for (size_t l = 0; l < light_local.size(); ++l) {
+          const V3f want = radiance[l] / float(s.spp);
+          const V3f got = m.texel_radiance(0, view, int(l), x, y);
+          const float scale = std::max(1e-3f, want.x + want.y + want.z);
+          worst = std::max(worst, double((got - want).length() / scale));
+          if (std::fabs(to_eye.z) < 0.02f) continue;  // horizon views: see above
+          const int lside = int(l) / m.light_grid.nodes_per_side();
+          const int lrem = int(l) % m.light_grid.nodes_per_side();
+          ClothMaterial::Light light{
+              m.light_grid.node_direction(lside, lrem % m.light_grid.k, lrem / m.light_grid.k),
+              irradiance};
+          if (std::fabs(light.to_light.z) < 0.02f) continue;
+          const V3f size = m.repeat_mm;
+          const MarchResult r = m.shade((x + 0.5f) / s.texels * size.x, (y + 0.5f) / s.texels * size.y,
+                                        1.0f, to_eye, std::span(&light, 1));
+          EXPECT_NEAR((r.radiance - got * irradiance).length(), 0.0f, 1e-4f * (1.0f + got.length()));
+        }
+      }
+  EXPECT_LT(worst, 1e-3) << "full-rank reconstruction against the march";
+}
+
+TEST(Material, CoarserLevelsAreExactBoxAverages) {
+  Fixture f;
+  MaterialSettings s = tiny_settings();
+  s.texels = 8;
+  s.max_error = 0.05f;
+  const ClothMaterial m = bake_tiny(f, s);
+  ASSERT_EQ(m.levels(), 4);  // 8, 4, 2, 1
+  for (int level = 1; level < m.levels(); ++level)
+    for (int v = 0; v < m.view_count(); ++v)
+      for (int y = 0; y < m.level_side(level); ++y)
+        for (int x = 0; x < m.level_side(level); ++x) {
+          const float a = 0.25f * ((m.texel_alpha(level - 1, v, 2 * x, 2 * y) +
+                                    m.texel_alpha(level - 1, v, 2 * x + 1, 2 * y)) +
+                                   (m.texel_alpha(level - 1, v, 2 * x, 2 * y + 1) +
+                                    m.texel_alpha(level - 1, v, 2 * x + 1, 2 * y + 1)));
+          EXPECT_EQ(m.texel_alpha(level, v, x, y), a);
+          for (int n = 0; n < m.light_count(); n += 5) {
+            const V3f want = 0.25f * (m.texel_radiance(level - 1, v, n, 2 * x, 2 * y) +
+                                      m.texel_radiance(level - 1, v, n, 2 * x + 1, 2 * y) +
+                                      m.texel_radiance(level - 1, v, n, 2 * x, 2 * y + 1) +
+                                      m.texel_radiance(level - 1, v, n, 2 * x + 1, 2 * y + 1));
+            EXPECT_NEAR((m.texel_radiance(level, v, n, x, y) - want).length(), 0.0f,
+                        1e-6f * (1.0f + want.length()));
+          }
+        }
+}
+
+TEST(Material, SameBytesForAnyThreadCount) {
+  Fixture f;
+  MaterialSettings s = tiny_settings();
+  s.max_error = 0.02f;
+  auto bake_with = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return bake_tiny(f, s);
+  };
+  const ClothMaterial a = bake_with(1), b = bake_with(2), c = bake_with(3);
+  for (const ClothMaterial* m : {&b, &c}) {
+    ASSERT_EQ(a.rank, m->rank);
+    ASSERT_EQ(a.max_rank, m->max_rank);
+    for (int l = 0; l < a.levels(); ++l) {
+      ASSERT_EQ(0, std::memcmp(a.coefficients[l].data(), m->coefficients[l].data(),
+                               a.coefficients[l].size() * sizeof(V3f)));
+      ASSERT_EQ(0, std::memcmp(a.alpha[l].data(), m->alpha[l].data(), a.alpha[l].size() * 4));
+    }
+    ASSERT_EQ(0, std::memcmp(a.light_factors.data(), m->light_factors.data(),
+                             a.light_factors.size() * 4));
+  }
+}
+
+// --max-error: every view node's factorisation is within it, and a looser
+// error never needs more components.
+TEST(Material, RankMeetsMaxError) {
+  Fixture f;
+  std::vector<int> prev;
+  for (float e : {0.01f, 0.05f, 0.2f}) {
+    MaterialSettings s = tiny_settings();
+    s.max_error = e;
+    const ClothMaterial m = bake_tiny(f, s);
+    for (int v = 0; v < m.view_count(); ++v) {
+      EXPECT_LE(m.error[v], e + 1e-6f);
+      if (!prev.empty()) EXPECT_LE(m.rank[v], prev[size_t(v)]);
+    }
+    prev = m.rank;
+  }
+}
+
+// The homogeneous isotropic slab has a closed form (docs/slab-analytic.md):
+// radiance per unit irradiance 0.8/(4 pi) * 2 mu_l / (mu_l + mu_v) *
+// (1 - exp(-tau0 (1/mu_v + 1/mu_l))) seen from the lit side. The material
+// reproduces it at its nodes (march noise: step 0.1 cell, 2 samples).
+TEST(Material, HomogeneousSlabMatchesTheClosedForm) {
+  ClothSpec spec;
+  spec.pattern = k_uniform_pattern;
+  spec.density.core = 0.5f;
+  spec.resolution = {8, 8, 16, 1};
+  const VolumeTexture volume = generate_volume(spec, k_budget);
+  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
+  MaterialOptics optics;
+  optics.shading = ShadingMode::Isotropic;
+  optics.extinction_per_mm = 10.0f;
+  optics.step_cells = 0.1f;
+  optics.cutoff = 1e-5f;
+  optics.light_roulette = 0.0f;
+  MaterialSettings s = tiny_settings();
+  s.directions = 5;
+  s.light_directions = 5;
+  s.max_error = 0.0f;
+  const ClothMaterial m = bake_material(volume, shader, optics, s, k_budget);
+  const double tau0 = 10.0 * 0.5 * volume.size_mm().z;
+  for (int view = 0; view < m.view_grid.nodes_per_side(); ++view) {
+    const V3f v = m.view_grid.bake_direction(view);
+    if (v.z < 0.2f) continue;
+    for (int n = 0; n < m.light_grid.nodes_per_side(); ++n) {
+      const V3f l = m.light_grid.bake_direction(n);
+      if (l.z < 0.2f) continue;
+      const double p = 1.0 / (4.0 * std::numbers::pi);
+      const double want = 0.8 * p * l.z / (l.z + v.z) *
+                          (1.0 - std::exp(-tau0 * (1.0 / v.z + 1.0 / l.z)));
+      const V3f got = m.texel_radiance(0, view, n, 1, 2);
+      EXPECT_NEAR(got.x, want, 0.03 * want) << "view " << view << " light " << n;
+    }
+  }
+}
+
+TEST(Material, BadSettingsNameTheField) {
+  auto field_of = [](MaterialSettings s) -> std::string {
+    try {
+      check_material_settings(s);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return "";
+  };
+  MaterialSettings s;
+  EXPECT_EQ(field_of(s), "");
+  s.texels = 48;
+  EXPECT_EQ(field_of(s), "texels");
+  s = {};
+  s.texels = 2048;
+  EXPECT_EQ(field_of(s), "texels");
+  s = {};
+  s.directions = 1;
+  EXPECT_EQ(field_of(s), "directions");
+  s = {};
+  s.light_directions = 33;
+  EXPECT_EQ(field_of(s), "light_directions");
+  s = {};
+  s.spp = 0;
+  EXPECT_EQ(field_of(s), "spp");
+  s = {};
+  s.max_error = -0.1f;
+  EXPECT_EQ(field_of(s), "max_error");
+}
+
+TEST(Material, TooLargeForTheMemoryBudgetIsRefused) {
+  Fixture f;
+  MaterialSettings s = tiny_settings();
+  try {
+    bake_material(f.volume, f.shader, MaterialOptics{}, s, 1 << 16);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "memory");
+  }
+  // Past the fields: the table itself grows past the budget.
+  const uint64_t fields = LightFieldSet::bytes_for(f.volume, 18, 1);
+  try {
+    bake_material(f.volume, f.shader, MaterialOptics{}, s, fields + 1000);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "memory");
+  }
+}
+
+// A scene object must match the material's optics: each difference is
+// refused, naming the scene's field.
+TEST(MaterialShader, RefusesAnotherThicknessExtinctionOrShading) {
+  Scene scene;
+  ClothObject obj;
+  obj.mesh.positions_world = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  obj.mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  obj.mesh.quads = {{{0, 1, 2, 3}, {0, 1, 2, 3}}};
+  obj.cloth = small_weave();
+  obj.repeats_per_uv = 10.0f;
+  scene.objects.push_back(obj);
+  auto prepared = std::make_unique<ClothScene>(scene, k_budget);
+  Fixture f;
+  ClothMaterial m = material_layout(f.volume, object_optics(*prepared, 0), tiny_settings());
+  EXPECT_NO_THROW(check_material_fits(*prepared, 0, m));
+  auto field_after = [&](auto change) -> std::string {
+    Scene changed = scene;
+    change(changed);
+    ClothScene p(changed, k_budget);
+    try {
+      check_material_fits(p, 0, m);
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return "";
+  };
+  EXPECT_EQ(field_after([](Scene& s) { s.objects[0].thickness_world *= 1.2f; }),
+            "objects[0].thickness_world");
+  EXPECT_EQ(field_after([](Scene& s) { s.objects[0].thickness_world *= 1.01f; }), "");
+  EXPECT_EQ(field_after([](Scene& s) { s.objects[0].extinction_per_mm = 20.0f; }),
+            "objects[0].extinction_per_mm");
+  EXPECT_EQ(field_after([](Scene& s) { s.settings.shading = ShadingMode::Isotropic; }),
+            "render.shading");
+  EXPECT_EQ(field_after([](Scene& s) { s.settings.fiber_model = FiberModelKind::Ellipsoid; }),
+            "render.fiber_model");
+}
+
+}  // namespace
+}  // namespace clothbake
