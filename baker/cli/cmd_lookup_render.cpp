@@ -31,6 +31,7 @@ namespace {
 struct LookupRenderArgs {
   std::string scene, bake_dir, out_exr, out_png;
   int spp = 0, threads = 0;
+  float footprint_scale = 1.0f;
   double memory_gib = 0.0;
   long long seed = -1;
   bool quiet = false;
@@ -72,7 +73,9 @@ void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t bu
     }
   }
   const std::vector<const ClothMaterial*> materials(size_t(prepared.object_count()), &material);
-  const SurfaceShader shader = material_shader(prepared, materials);
+  MaterialLookupSettings lookup;
+  lookup.footprint_scale = args.footprint_scale;
+  const SurfaceShader shader = material_shader(prepared, materials, lookup);
   io::ProgressBar bar("lookup-render", args.quiet);
   const Image image = renderer->render_with(&shader, [&](double f) { bar.update(f); });
   bar.finish();
@@ -161,6 +164,10 @@ void register_lookup_render_command(CLI::App& app, Action action) {
   cmd->add_option("--seed", args->seed,
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--footprint-scale", args->footprint_scale,
+                  "material only: the lookup's footprint relative to the pixel's")
+      ->check(CLI::Range(0.0, 16.0))
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
   add_memory_option(cmd, args->memory_gib);

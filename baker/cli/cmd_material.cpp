@@ -3,6 +3,7 @@
 // distance (docs/material-format.md), which lookup-render applies to any
 // scene whose cloth matches.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -60,7 +61,9 @@ void run_material(const MaterialArgs& args) {
   try {
     check_material_settings(settings);
   } catch (const InputError& e) {
-    throw InputError("--" + e.field(), e.message());
+    std::string flag = e.field();
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    throw InputError("--" + flag, e.message());
   }
   {
     // The folder is written beside its final name: the parent must be there.
@@ -186,6 +189,9 @@ void register_material_command(CLI::App& app, Action action) {
       ->capture_default_str();
   cmd->add_option("--field-supersample", args->settings.field_supersample,
                   "light-field points per cell edge")
+      ->capture_default_str();
+  cmd->add_option("--fiber-tangent-nodes", args->settings.fiber_tangent_nodes,
+                  "fibre response tabulated over N x N tangents per view node (0: exact per cell)")
       ->capture_default_str();
   cmd->add_option("--depth-scale", args->depth_scale,
                   "texture mm per world unit along the normal over along the surface "

@@ -127,6 +127,7 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["spp"] = s.spp;
   j["max_error"] = s.max_error;
   j["field_supersample"] = s.field_supersample;
+  j["fiber_tangent_nodes"] = s.fiber_tangent_nodes;
   j["seed"] = s.seed;
   j["optics"] = {{"depth_scale", o.depth_scale},
                  {"extinction_per_mm", o.extinction_per_mm},
@@ -284,6 +285,7 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
   top.read("max_error", s.max_error);
   top.read("seed", s.seed);
   top.read("field_supersample", s.field_supersample);
+  top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
   try {
     check_material_settings(s);
   } catch (const InputError& e) {

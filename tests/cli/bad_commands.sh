@@ -14,6 +14,7 @@
 #   $out   the case's output folder (must stay empty)
 #   $bake  a small good bake of testscenes/slab (read only; copy it to change it)
 #   $other a small good bake of another scene (slab, brighter light)
+#   $material a small good cloth material of testscenes/slab
 #   $slab  testscenes/slab/scene.json
 # prepare may call the helpers below; exit status 77 from prepare skips the
 # case with the reason it printed (only for what the machine cannot do).
@@ -66,7 +67,10 @@ cp "$root/testscenes/slab/quad.obj" "$root/testscenes/slab/cloth.json" "$tmp/oth
 sed 's/"intensity": 1.0/"intensity": 2.0/' "$slab" >"$tmp/other_scene/scene.json"
 "$exe" bake "$tmp/other_scene/scene.json" -o "$other" "${small[@]}" >/dev/null ||
   { echo "FAIL: the other bake"; exit 1; }
-chmod -R a-w "$bake" "$other"  # cases must copy before changing (root ignores this)
+material=$tmp/good_material
+"$exe" material "$slab" -o "$material" --texels 4 --directions 3 --light-directions 3 --spp 1 \
+  --field-supersample 1 --quiet >/dev/null || { echo "FAIL: the good material"; exit 1; }
+chmod -R a-w "$bake" "$other" "$material"  # cases must copy before changing (root ignores this)
 
 # --- the cases -------------------------------------------------------------
 failures=0 passed=0 skipped=0

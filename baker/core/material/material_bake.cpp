@@ -88,6 +88,7 @@ void check_material_settings(const MaterialSettings& s) {
         k_max_material_directions);
   range("spp", s.spp, k_min_material_spp, k_max_material_spp);
   range("field_supersample", s.field_supersample, 1, 4);
+  if (s.fiber_tangent_nodes != 0) range("fiber_tangent_nodes", s.fiber_tangent_nodes, 2, 256);
   if (!(s.max_error >= k_min_material_error && s.max_error <= k_max_material_error))
     throw InputError("max_error", "must be in [0, 1], got " + std::to_string(s.max_error));
 }
@@ -192,6 +193,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   // then factorise.
   std::vector<ViewFactors> factors(static_cast<size_t>(n_views));
   struct Local {
+    FiberLightTable fiber_table;
     NodeMarchScratch scratch;
     NodeMarchCounts counts;
     std::vector<V3f> radiance;
@@ -205,6 +207,13 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
     if (over_budget) return;
     Local& local = locals.local();
     local.scratch.view_tag = uint32_t(view) + 1;
+    const bool tabulate = settings.fiber_tangent_nodes > 0 && optics.shading == ShadingMode::Fiber;
+    if (tabulate) {
+      local.fiber_table.build(shader, light_local, material.view_grid.bake_direction(view),
+                              settings.fiber_tangent_nodes);
+      local.counts.fiber_evaluations += uint64_t(settings.fiber_tangent_nodes) *
+                                        uint64_t(settings.fiber_tangent_nodes) * uint64_t(n_lights);
+    }
     Eigen::MatrixXf m(Eigen::Index(R) * R * 3, n_lights);
     ViewFactors& f = factors[size_t(view)];
     f.alpha.assign(size_t(R) * R, 0.0f);
@@ -215,8 +224,9 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
         std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
         float see_through = 0.0f;
         for (int k = 0; k < settings.spp; ++k) {
-          const NodeMarchInput in =
+          NodeMarchInput in =
               material_sample(material, volume, shader, fields, light_local, view, x, y, k);
+          if (tabulate) in.fiber_table = &local.fiber_table;
           see_through += in.length_mm > 0.0f
                              ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
                                                          local.counts)

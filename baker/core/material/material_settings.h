@@ -26,6 +26,10 @@ struct MaterialSettings {
   int spp = 2;                ///< jittered samples per texel and view node
   float max_error = 0.05f;    ///< per view node: relative RMSE of the factorisation, level 0
   int field_supersample = 2;  ///< light-transmittance field points per cell edge
+  /// Fibre response per light node tabulated over k x k tangent directions
+  /// per view node (node_march.h, FiberLightTable); 0: the fibre model per
+  /// cell and light node.
+  int fiber_tangent_nodes = 32;
   uint64_t seed = 1;
 };
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/bake/direction_grid.h"
 #include "core/march/cell_walk.h"
 #include "core/util/random.h"
 
@@ -12,6 +13,43 @@ namespace {
 using Imath::V3f;
 constexpr float k_inv_4pi = 0.25f / std::numbers::pi_v<float>;
 }  // namespace
+
+void FiberLightTable::build(const FiberShader& shader, std::span<const V3f> to_light_local,
+                            const V3f& to_eye_local, int k) {
+  m_k = k;
+  m_lights = to_light_local.size();
+  m_diffuse.assign(size_t(k) * k * m_lights, 0.0f);
+  m_specular.assign(m_diffuse.size(), 0.0f);
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      const V3f tangent = hemi_oct_decode(Imath::V2f(float(i) / float(k - 1), float(j) / float(k - 1)));
+      const size_t row = (size_t(j) * k + i) * m_lights;
+      for (size_t l = 0; l < m_lights; ++l) {
+        const FiberResponse f = shader.eval(tangent, to_light_local[l], to_eye_local, 0);
+        m_diffuse[row + l] = f.diffuse;
+        m_specular[row + l] = f.specular;
+      }
+    }
+}
+
+void FiberLightTable::eval(const V3f& tangent, float* diffuse, float* specular) const {
+  // Even in the tangent: the upper hemisphere's node of -t where t.z < 0.
+  const Imath::V2f uv = hemi_oct_encode(tangent.z < 0.0f ? -tangent : tangent);
+  const float gx = uv.x * float(m_k - 1), gy = uv.y * float(m_k - 1);
+  const int i0 = std::min(int(gx), m_k - 2), j0 = std::min(int(gy), m_k - 2);
+  const float fx = gx - float(i0), fy = gy - float(j0);
+  const size_t rows[4] = {(size_t(j0) * m_k + i0) * m_lights, (size_t(j0) * m_k + i0 + 1) * m_lights,
+                          (size_t(j0 + 1) * m_k + i0) * m_lights,
+                          (size_t(j0 + 1) * m_k + i0 + 1) * m_lights};
+  const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+  const float* d[4] = {&m_diffuse[rows[0]], &m_diffuse[rows[1]], &m_diffuse[rows[2]], &m_diffuse[rows[3]]};
+  const float* s[4] = {&m_specular[rows[0]], &m_specular[rows[1]], &m_specular[rows[2]],
+                       &m_specular[rows[3]]};
+  for (size_t l = 0; l < m_lights; ++l) {
+    diffuse[l] = w[0] * d[0][l] + w[1] * d[1][l] + w[2] * d[2][l] + w[3] * d[3][l];
+    specular[l] = w[0] * s[0][l] + w[1] * s[1][l] + w[2] * s[2][l] + w[3] * s[3][l];
+  }
+}
 
 // Kept parallel to march_view_ray (volume_march.cpp) line by line, so that
 // the two agree sample for sample; tests/core/material_test.cpp holds them
@@ -47,6 +85,12 @@ float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMar
         V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
     if (in.shading == ShadingMode::Isotropic) {
       for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
+    } else if (in.fiber_table) {
+      scratch.diffuse.resize(n_lights);
+      scratch.specular.resize(n_lights);
+      in.fiber_table->eval(tangent_local, scratch.diffuse.data(), scratch.specular.data());
+      for (size_t l = 0; l < n_lights; ++l)
+        reflect[l] = cell.diffuse * scratch.diffuse[l] + V3f(cell.specular * scratch.specular[l]);
     } else if (cacheable) {
       const size_t c = size_t(&cell - cells);
       float* r = scratch.response.data() + c * n_lights * 2;

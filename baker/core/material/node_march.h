@@ -21,10 +21,36 @@
 
 namespace clothbake {
 
+/// The fibre model's response toward every light node for one view node, as
+/// a function of the fibre tangent alone: tabulated on a hemi-octahedral grid
+/// of tangents (the response is even in the tangent, so one hemisphere), so
+/// that a cell's response toward all light nodes is one set of bilinear
+/// weights applied to contiguous rows instead of one fibre evaluation per
+/// light node. Built once per view node; its interpolation error is measured
+/// in tests/core/material/material_test.cpp.
+class FiberLightTable {
+ public:
+  /// `k` x `k` tangent nodes; evaluates `shader` k^2 x light-node times.
+  void build(const FiberShader& shader, std::span<const Imath::V3f> to_light_local,
+             const Imath::V3f& to_eye_local, int k);
+  /// Diffuse and specular factors toward every light node for a unit
+  /// tangent (material frame): diffuse[l], specular[l].
+  void eval(const Imath::V3f& tangent_local, float* diffuse, float* specular) const;
+  int k() const { return m_k; }
+
+ private:
+  int m_k = 0;
+  size_t m_lights = 0;
+  std::vector<float> m_diffuse, m_specular;  // [(j * k + i) * lights + l]
+};
+
 struct NodeMarchInput {
   const VolumeTexture* volume = nullptr;
   const FiberShader* shader = nullptr;
   const LightFieldSet* fields = nullptr;  ///< one field per light node
+  /// The fibre response per light node by tangent (null: the fibre model
+  /// itself, per cell and light node).
+  const FiberLightTable* fiber_table = nullptr;
   std::span<const Imath::V3f> to_light_local;  ///< per light node, unit, the material's frame
   Imath::V3f entry_texture;
   Imath::V3f dir_texture;  ///< unit
@@ -52,6 +78,7 @@ struct NodeMarchScratch {
   std::vector<float> response;       ///< [cell * lights + l] * 2: diffuse, specular factors
   std::vector<uint32_t> tag;         ///< per cell: the view_tag its responses are for (0: none)
   uint32_t view_tag = 0;             ///< set by the caller, unique per view node, > 0
+  std::vector<float> diffuse, specular;  ///< per light node, from the FiberLightTable
 };
 
 struct NodeMarchCounts {

@@ -148,6 +148,40 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
   EXPECT_LT(diff / total, 0.025);
 }
 
+// The tabulated fibre response per light node against the fibre model at
+// random tangents: mean absolute error relative to the mean response.
+// Measured 0.039 at 16 x 16 tangent nodes and 0.024 at 32 (the specular lobe,
+// exponent 24, is narrow against the node spacing); bounds 1.4 x those. The
+// errors average out over a cell's many fibres and a pixel's many cells: in a
+// render of the paper scene (16 spp) the 32-node table moved the image by
+// 0.17% relative RMSE against the fibre model per cell.
+TEST(FiberLightTable, MatchesTheFibreModel) {
+  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 32, 1);
+  std::vector<V3f> lights;
+  for (int i = 0; i < 12; ++i)
+    lights.push_back(V3f(std::cos(0.7f * i), std::sin(0.7f * i), 0.9f - 0.15f * i).normalized());
+  const V3f eye = V3f(0.3f, -0.2f, 0.9f).normalized();
+  for (int k : {16, 32}) {
+    FiberLightTable table;
+    table.build(shader, lights, eye, k);
+    std::vector<float> d(lights.size()), sp(lights.size());
+    double err = 0.0, sum = 0.0;
+    for (int n = 0; n < 2000; ++n) {
+      const V3f t = V3f(unit_float(hash_key(3, n, 0)) - 0.5f, unit_float(hash_key(3, n, 1)) - 0.5f,
+                        unit_float(hash_key(3, n, 2)) - 0.5f)
+                        .normalized();
+      table.eval(t, d.data(), sp.data());
+      for (size_t l = 0; l < lights.size(); ++l) {
+        const FiberResponse f = shader.eval(t, lights[l], eye, 0);
+        err += std::fabs(d[l] - f.diffuse) + std::fabs(sp[l] - f.specular);
+        sum += f.diffuse + f.specular;
+      }
+    }
+    std::printf("tangent nodes %d: relative mean error %.4f\n", k, err / sum);
+    EXPECT_LT(err / sum, k == 16 ? 0.055 : 0.034);
+  }
+}
+
 ClothMaterial bake_tiny(const Fixture& f, MaterialSettings s = tiny_settings()) {
   return bake_material(f.volume, f.shader, MaterialOptics{}, s, k_budget);
 }

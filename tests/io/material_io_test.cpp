@@ -1,0 +1,179 @@
+#include "io/material_io.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/texture/volume_generator.h"
+#include "core/util/error.h"
+
+namespace clothbake::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Imath::V3f;
+
+/// A small real material: the plain weave on a coarse grid, K = KL = 3.
+const ClothMaterial& small_material() {
+  static const ClothMaterial m = [] {
+    ClothSpec spec;
+    spec.resolution = {16, 16, 8, 1};
+    const VolumeTexture volume = generate_volume(spec, uint64_t(1) << 32);
+    const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
+    MaterialSettings s;
+    s.texels = 8;
+    s.directions = 3;
+    s.light_directions = 3;
+    s.spp = 1;
+    s.field_supersample = 1;
+    s.max_error = 0.02f;
+    return bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32);
+  }();
+  return m;
+}
+
+MaterialInfo small_info() {
+  MaterialInfo info;
+  info.cloth_name = "plain";
+  info.cloth_hash = "0123456789abcdef";
+  return info;
+}
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("clothbake_material_io_" + std::to_string(::getpid()) +
+                                               "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  TempDir() { fs::remove_all(path); fs::create_directories(path); }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+std::string error_of(const std::string& dir) {
+  MaterialInfo info;
+  try {
+    read_material(dir, info);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Everything written reads back: the table within half precision (the
+// images are half floats; light factors are float and exact), every
+// setting and optic exactly.
+TEST(MaterialIo, RoundTrip) {
+  TempDir tmp;
+  const std::string dir = (tmp.path / "mat").string();
+  const ClothMaterial& m = small_material();
+  write_material(dir, m, small_info());
+  EXPECT_TRUE(is_material_folder(dir));
+  MaterialInfo info;
+  const ClothMaterial r = read_material(dir, info);
+  EXPECT_EQ(info.cloth_hash, "0123456789abcdef");
+  EXPECT_EQ(r.rank, m.rank);
+  EXPECT_EQ(r.max_rank, m.max_rank);
+  EXPECT_EQ(r.levels(), m.levels());
+  EXPECT_EQ(r.light_factors, m.light_factors);
+  EXPECT_EQ(r.optics.depth_scale, m.optics.depth_scale);
+  EXPECT_EQ(r.repeat_mm, m.repeat_mm);
+  for (int l = 0; l < m.levels(); ++l) {
+    ASSERT_EQ(r.coefficients[l].size(), m.coefficients[l].size());
+    for (size_t i = 0; i < m.coefficients[l].size(); ++i)
+      EXPECT_NEAR((r.coefficients[l][i] - m.coefficients[l][i]).length(), 0.0f,
+                  1e-3f * (m.coefficients[l][i].length() + 1e-4f));
+    for (size_t i = 0; i < m.alpha[l].size(); ++i) EXPECT_NEAR(r.alpha[l][i], m.alpha[l][i], 1e-3f);
+  }
+}
+
+TEST(MaterialIo, SameBytesTwice) {
+  TempDir tmp;
+  write_material((tmp.path / "a").string(), small_material(), small_info());
+  write_material((tmp.path / "b").string(), small_material(), small_info());
+  for (const auto& e : fs::directory_iterator(tmp.path / "a")) {
+    std::ifstream fa(e.path(), std::ios::binary), fb(tmp.path / "b" / e.path().filename(), std::ios::binary);
+    const std::string a((std::istreambuf_iterator<char>(fa)), {}), b((std::istreambuf_iterator<char>(fb)), {});
+    EXPECT_EQ(a, b) << e.path().filename();
+  }
+}
+
+// A damaged folder is refused with the file (and field) named.
+TEST(MaterialIo, DamagedFoldersNameTheFileAndField) {
+  TempDir tmp;
+  const std::string good = (tmp.path / "good").string();
+  write_material(good, small_material(), small_info());
+  auto copy = [&](const std::string& name) {
+    const fs::path p = tmp.path / name;
+    fs::copy(good, p, fs::copy_options::recursive);
+    return p;
+  };
+  auto edit_manifest = [&](const fs::path& dir, auto change) {
+    std::ifstream in(dir / "manifest.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    change(j);
+    std::ofstream(dir / "manifest.json") << j.dump(2);
+  };
+  {  // a truncated level image
+    const fs::path d = copy("truncated");
+    const fs::path level = d / "level_0.exr";
+    fs::resize_file(level, fs::file_size(level) / 2);
+    const std::string e = error_of(d.string());
+    EXPECT_NE(e.find("level_0.exr"), std::string::npos) << e;
+  }
+  {  // a missing image
+    const fs::path d = copy("missing");
+    fs::remove(d / "light_factors.exr");
+    const std::string e = error_of(d.string());
+    EXPECT_NE(e.find("light_factors.exr: missing"), std::string::npos) << e;
+  }
+  {  // a corrupt manifest
+    const fs::path d = copy("corrupt");
+    std::ofstream(d / "manifest.json") << "{\"format\": \"clothbake-material\", ";
+    EXPECT_NE(error_of(d.string()).find("manifest.json: malformed JSON"), std::string::npos)
+        << error_of(d.string());
+  }
+  {  // texels out of range, not a power of two
+    const fs::path d = copy("texels");
+    edit_manifest(d, [](nlohmann::json& j) { j["texels"] = 48; });
+    EXPECT_NE(error_of(d.string()).find("manifest.json: texels: must be a power of 2"),
+              std::string::npos)
+        << error_of(d.string());
+  }
+  {  // K out of range
+    const fs::path d = copy("directions");
+    edit_manifest(d, [](nlohmann::json& j) { j["light_directions"] = 99; });
+    EXPECT_NE(error_of(d.string()).find("light_directions: must be in [2, 32]"), std::string::npos)
+        << error_of(d.string());
+  }
+  {  // a rank above max_rank
+    const fs::path d = copy("rank");
+    edit_manifest(d, [](nlohmann::json& j) { j["ranks"][2] = 1000; });
+    EXPECT_NE(error_of(d.string()).find("ranks[2]"), std::string::npos) << error_of(d.string());
+  }
+  {  // another format
+    const fs::path d = copy("format");
+    edit_manifest(d, [](nlohmann::json& j) { j["format"] = "clothbake-lookup"; });
+    EXPECT_NE(error_of(d.string()).find("format: expected \"clothbake-material\""),
+              std::string::npos)
+        << error_of(d.string());
+  }
+  {  // images of the wrong size for the manifest
+    const fs::path d = copy("size");
+    edit_manifest(d, [](nlohmann::json& j) { j["directions"] = 4; j["ranks"] = std::vector<int>(32, 0); j["errors"] = std::vector<float>(32, 0.0f); });
+    EXPECT_NE(error_of(d.string()).find("level_0.exr: is"), std::string::npos) << error_of(d.string());
+  }
+}
+
+// A destination that is not a material (or lookup) folder is never replaced,
+// and a failed write leaves the previous material as it was.
+TEST(MaterialIo, NeverReplacesAnotherFolder) {
+  TempDir tmp;
+  const fs::path other = tmp.path / "photos";
+  fs::create_directories(other);
+  std::ofstream(other / "keep.jpg") << "x";
+  EXPECT_THROW(write_material(other.string(), small_material(), small_info()), InputError);
+  EXPECT_TRUE(fs::exists(other / "keep.jpg"));
+  EXPECT_FALSE(fs::exists(other / "manifest.json"));
+}
+
+}  // namespace
+}  // namespace clothbake::io
