@@ -32,6 +32,7 @@ struct LookupRenderArgs {
   std::string scene, bake_dir, out_exr, out_png;
   int spp = 0, threads = 0;
   float footprint_scale = 1.0f;
+  std::string light_filter = "catmull-rom";
   double memory_gib = 0.0;
   long long seed = -1;
   bool quiet = false;
@@ -47,7 +48,8 @@ void check_lookup_render_args(const LookupRenderArgs& args) {
 /// every cloth object must be of the material's cloth and optics.
 void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t budget) {
   io::MaterialInfo info;
-  const ClothMaterial material = io::read_material(args.bake_dir, info);
+  ClothMaterial material = io::read_material(args.bake_dir, info);
+  if (args.light_filter == "bilinear") material.light_filter = ClothMaterial::LightFilter::Bilinear;
   if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;
   try {
@@ -165,8 +167,12 @@ void register_lookup_render_command(CLI::App& app, Action action) {
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--footprint-scale", args->footprint_scale,
-                  "material only: the lookup's footprint relative to the pixel's")
+                  "material only: the lookup's footprint relative to the pixel's stratum (pixel / sqrt(spp))")
       ->check(CLI::Range(0.0, 16.0))
+      ->capture_default_str();
+  cmd->add_option("--light-filter", args->light_filter,
+                  "material only: interpolation between light nodes")
+      ->check(CLI::IsMember({"catmull-rom", "bilinear"}))
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));

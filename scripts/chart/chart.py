@@ -175,31 +175,41 @@ def main():
                                     "--texels-per-pixel", "3"]),
              ("full K4 R16", ["--directions", "4", "--texels", "16", "--spp", "1"]),
              ("full K8 R32", ["--directions", "8", "--texels", "32", "--spp", "1"])]
+    # Cloth materials (`clothbake material`, docs/material-format.md): baked
+    # once for any camera and light; their seconds are amortised the same way.
+    materials = [("material K16 KL8 (default)", []),
+                 ("material K8 KL8", ["--directions", "8"]),
+                 ("material K16 KL8 E0.02", ["--max-error", "0.02"]),
+                 ("material K16 KL8 E0.2", ["--max-error", "0.2"])]
+    bakes = [("bake", label, flags) for label, flags in bakes] + \
+        [("material", label, flags) for label, flags in materials]
     if args.quick:
-        bakes = bakes[:1]
+        bakes = [bakes[0], bakes[len(bakes) - len(materials)]]
     best_bake = None
-    for label, flags in bakes:
-        folder = os.path.join(args.out, "bake_" + label.replace(" ", "_"))
-        stats_path = os.path.join(args.out, "bake_" + label.replace(" ", "_") + ".json")
+    for command, label, flags in bakes:
+        slug = label.replace(" ", "_").replace("(", "").replace(")", "")
+        folder = os.path.join(args.out, "bake_" + slug)
+        stats_path = os.path.join(args.out, "bake_" + slug + ".json")
         stats = json.load(open(stats_path)) if os.path.exists(stats_path) and \
             os.path.exists(os.path.join(folder, "manifest.json")) else None
         if stats is None or stats.get("flags") != flags or \
                 stats.get("exe_sha256") != exe_sha256 or stats.get("scene_sha256") != scene_sha256:
             log(f"bake {label}")
-            secs, out = r.timed([args.exe, "bake", base_scene, "-o", folder, "--quiet"] + flags)
+            secs, out = r.timed([args.exe, command, base_scene, "-o", folder, "--quiet"] + flags)
             stats = dict(json.loads(out), wall_seconds=secs, flags=flags, exe_sha256=exe_sha256,
                           scene_sha256=scene_sha256)
             with open(stats_path, "w") as f:
                 json.dump(stats, f, indent=2)
         bake_seconds = stats["wall_seconds"]
-        series = f"lookup-render, {label} bake"
+        series = f"lookup-render, {label}" + (" bake" if command == "bake" else "")
         for n in spps[1:]:
             point(series, f"{n} spp",
                   lambda image, n=n: [args.exe, "lookup-render", base_scene, folder, "-o", image,
                                       "--quiet", "--spp", str(n)],
                   runs=runs_for(n), extra_seconds=bake_seconds, setting=" ".join(flags))
             rows[-1]["bake_seconds"] = bake_seconds
-            rows[-1]["bake_bytes_on_disk"] = stats.get("bytes_on_disk", "")
+            rows[-1]["bake_bytes_on_disk"] = stats.get("bytes_on_disk", "") or sum(
+                os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder))
         if label == "adaptive K16 3tpp" or best_bake is None:
             best_bake = (label, folder, bake_seconds)
 

@@ -16,7 +16,7 @@ if [[ ${1:-} == --quick ]]; then
   shift
 fi
 scenes=("$@")
-((${#scenes[@]})) || scenes=(paper flat)
+((${#scenes[@]})) || scenes=(paper paper_far flat)
 out="$CLOTHBAKE_ROOT/out/chart"
 mkdir -p "$out"
 { date -u; git -C "$CLOTHBAKE_ROOT" rev-parse --short HEAD; lscpu | grep -E "Model name|^CPU\(s\)"; free -g | head -2; blender --version 2>/dev/null | head -1; } >"$out/machine.txt"

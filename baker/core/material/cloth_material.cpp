@@ -96,26 +96,50 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
                         view_grid.node_index(vf.side, vf.i1, vf.j1)};
   const float wv[4] = {(1 - vf.fx) * (1 - vf.fy), vf.fx * (1 - vf.fy), (1 - vf.fx) * vf.fy,
                        vf.fx * vf.fy};
-  // Light nodes: each light's four nodes and weights, shared by the views.
+  // Light nodes: each light's nodes and weights, shared by the views.
   struct LightNodes {
-    int node[4];
-    float w[4];
+    int count = 0;
+    int node[16];
+    float w[16];
     V3f irradiance;
   };
   std::array<LightNodes, 8> light_nodes;
   size_t n_lights = 0;
+  const int kl = light_grid.k;
   for (const Light& light : lights) {
     if (n_lights == light_nodes.size()) break;
     if (!(light.irradiance.x > 0 || light.irradiance.y > 0 || light.irradiance.z > 0)) continue;
     const DirectionGrid::Footprint lf = light_grid.locate(light.to_light);
     LightNodes& ln = light_nodes[n_lights++];
-    ln.node[0] = light_grid.node_index(lf.side, lf.i0, lf.j0);
-    ln.node[1] = light_grid.node_index(lf.side, lf.i1, lf.j0);
-    ln.node[2] = light_grid.node_index(lf.side, lf.i0, lf.j1);
-    ln.node[3] = light_grid.node_index(lf.side, lf.i1, lf.j1);
-    ln.w[0] = (1 - lf.fx) * (1 - lf.fy), ln.w[1] = lf.fx * (1 - lf.fy);
-    ln.w[2] = (1 - lf.fx) * lf.fy, ln.w[3] = lf.fx * lf.fy;
     ln.irradiance = light.irradiance;
+    if (light_filter == LightFilter::Bilinear || kl < 3) {
+      ln.count = 4;
+      ln.node[0] = light_grid.node_index(lf.side, lf.i0, lf.j0);
+      ln.node[1] = light_grid.node_index(lf.side, lf.i1, lf.j0);
+      ln.node[2] = light_grid.node_index(lf.side, lf.i0, lf.j1);
+      ln.node[3] = light_grid.node_index(lf.side, lf.i1, lf.j1);
+      ln.w[0] = (1 - lf.fx) * (1 - lf.fy), ln.w[1] = lf.fx * (1 - lf.fy);
+      ln.w[2] = (1 - lf.fx) * lf.fy, ln.w[3] = lf.fx * lf.fy;
+      continue;
+    }
+    // Catmull-Rom in i and j over nodes i0 - 1 .. i0 + 2, clamped to the grid.
+    auto weights = [](float t, float* w) {
+      const float t2 = t * t, t3 = t2 * t;
+      w[0] = 0.5f * (-t3 + 2.0f * t2 - t);
+      w[1] = 0.5f * (3.0f * t3 - 5.0f * t2 + 2.0f);
+      w[2] = 0.5f * (-3.0f * t3 + 4.0f * t2 + t);
+      w[3] = 0.5f * (t3 - t2);
+    };
+    float wx[4], wy[4];
+    weights(lf.fx, wx);
+    weights(lf.fy, wy);
+    ln.count = 16;
+    for (int b = 0; b < 4; ++b)
+      for (int a = 0; a < 4; ++a) {
+        const int i = std::clamp(lf.i0 - 1 + a, 0, kl - 1), j = std::clamp(lf.j0 - 1 + b, 0, kl - 1);
+        ln.node[b * 4 + a] = light_grid.node_index(lf.side, i, j);
+        ln.w[b * 4 + a] = wx[a] * wy[b];
+      }
   }
   const size_t r = size_t(max_rank);
   const size_t n_nodes = size_t(light_count());
@@ -130,7 +154,7 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     std::fill(weights.begin(), weights.begin() + rk, V3f(0.0f));
     for (size_t l = 0; l < n_lights; ++l) {
       const LightNodes& ln = light_nodes[l];
-      for (int n = 0; n < 4; ++n) {
+      for (int n = 0; n < ln.count; ++n) {
         if (ln.w[n] == 0.0f) continue;
         const float* f = light_factors.data() + (size_t(v) * n_nodes + ln.node[n]) * r;
         const V3f e = ln.irradiance * ln.w[n];
@@ -162,7 +186,8 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
       }
     }
   }
-  out.radiance = radiance;
+  // Catmull-Rom weights can be negative: no negative light.
+  out.radiance = V3f(std::max(radiance.x, 0.0f), std::max(radiance.y, 0.0f), std::max(radiance.z, 0.0f));
   out.transmittance = std::clamp(1.0f - alpha_sum, 0.0f, 1.0f);
   return out;
 }

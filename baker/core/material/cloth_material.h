@@ -59,6 +59,12 @@ class ClothMaterial {
   /// The material's frame back to texture space (unit).
   Imath::V3f texture_from_material(const Imath::V3f& d_material) const;
 
+  /// How shade() interpolates between light nodes: bilinear (4 nodes) or
+  /// Catmull-Rom (16 nodes, clamped at the grid's edges; the sum is kept
+  /// non-negative). Not stored: a reader's choice.
+  enum class LightFilter { Bilinear, CatmullRom };
+  LightFilter light_filter = LightFilter::CatmullRom;
+
   struct Light {
     Imath::V3f to_light;    ///< unit, the material's frame
     Imath::V3f irradiance;  ///< RGB, arriving at the cloth

@@ -20,8 +20,8 @@ inline constexpr float k_min_material_error = 0.0f, k_max_material_error = 1.0f;
 
 /// The sampling and compression of the table.
 struct MaterialSettings {
-  int texels = 64;            ///< R: texels per repeat side at level 0, a power of 2
-  int directions = 8;         ///< K: view nodes per side of each hemisphere's grid
+  int texels = 32;            ///< R: texels per repeat side at level 0, a power of 2
+  int directions = 16;        ///< K: view nodes per side of each hemisphere's grid
   int light_directions = 8;   ///< KL: light nodes per side of each hemisphere's grid
   int spp = 2;                ///< jittered samples per texel and view node
   float max_error = 0.05f;    ///< per view node: relative RMSE of the factorisation, level 0

@@ -83,7 +83,8 @@ SurfaceShader material_shader(const ClothScene& prepared,
   const Scene& scene = prepared.scene();
   const float angle = pixel_angle(scene.camera);
   const V3f eye = scene.camera.position_world;
-  return [&prepared, &scene, materials, angle, eye, settings](int o, int q, float s, float t,
+  const float stratum = 1.0f / std::sqrt(float(std::max(scene.settings.spp, 1)));
+  return [&prepared, &scene, materials, angle, eye, settings, stratum](int o, int q, float s, float t,
                                                               const V3f& ray_dir_world, Rng&) {
     const ClothMaterial& mat = *materials[size_t(o)];
     const QuadPatch& patch = prepared.patch(o, q);
@@ -99,7 +100,7 @@ SurfaceShader material_shader(const ClothScene& prepared,
     const float mm = std::sqrt(std::fabs(frame.mm_per_world.x * frame.mm_per_world.y));
     const float footprint_mm = across_world / std::sqrt(cos_view) * mm;
     const float texel_mm = mat.repeat_mm.x / float(mat.texels());
-    const float footprint_texels = settings.footprint_scale * footprint_mm / texel_mm;
+    const float footprint_texels = settings.footprint_scale * stratum * footprint_mm / texel_mm;
 
     ClothMaterial::Light lights[k_max_march_lights];
     size_t n = 0;

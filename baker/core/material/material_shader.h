@@ -28,9 +28,13 @@ inline constexpr float k_depth_scale_tolerance = 0.05f;
 /// render.shading, render.fiber_model), naming the scene field and both values.
 void check_material_fits(const ClothScene& prepared, int object, const ClothMaterial& material);
 
-/// How wide a lookup's footprint is taken relative to the pixel's.
+/// How wide a lookup's footprint is taken. Each of a pixel's spp stratified
+/// samples prefilters its own stratum: the footprint is the pixel's width
+/// times footprint_scale / sqrt(spp), so the samples' lookups together cover
+/// the pixel once, whatever spp (docs/material-format.md, "Reading it").
 struct MaterialLookupSettings {
   float footprint_scale = 1.0f;
+  ClothMaterial::LightFilter light_filter = ClothMaterial::LightFilter::CatmullRom;
 };
 
 /// The shader lookup-render uses: `materials[o]` for object o (all must be

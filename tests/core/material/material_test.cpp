@@ -102,14 +102,17 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
   MaterialOptics optics;
   optics.light_roulette = 0.0f;
   ClothMaterial layout = material_layout(f.volume, optics, s);
-  const std::vector<V3f> light_local = material_light_directions(layout);
+  // Light nodes above 15 degrees (grazing ones: the stability suite).
+  std::vector<V3f> light_local;
+  for (const V3f& d : material_light_directions(layout))
+    if (std::fabs(d.z) >= 0.25f) light_local.push_back(d);
   std::vector<V3f> light_texture;
   for (const V3f& d : light_local) light_texture.push_back(layout.texture_from_material(d));
   const LightFieldSet fields = LightFieldSet::build(f.volume, light_texture, 40.0f, 2);
   NodeMarchScratch scratch;
   NodeMarchCounts counts;
   double diff = 0.0, total = 0.0;
-  for (int view = 0; view < layout.view_count(); ++view)
+  for (int view = 0; view < layout.view_count(); view += 2)
     for (int x = 0; x < 4; ++x) {
       const NodeMarchInput in =
           material_sample(layout, f.volume, f.shader, fields, light_local, view, x, 1, 0);
@@ -138,7 +141,6 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
         const MarchResult r = march_view_ray(one);
         EXPECT_EQ(r.transmittance, t_nodes);
         const V3f d = r.radiance - radiance[l];
-        if (std::fabs(light_local[l].z) < 0.25f) continue;  // grazing: measured apart
         diff += std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
         total += r.radiance.x + r.radiance.y + r.radiance.z;
       }
@@ -209,9 +211,13 @@ TEST(Material, LookupAtNodesEqualsTheMarch) {
         std::vector<V3f> radiance(light_local.size(), V3f(0.0f));
         float see_through = 0.0f;
         scratch.view_tag = uint32_t(view) + 1;
+        // The fibre response tabulated as the bake does it (node_march.h).
+        FiberLightTable table;
+        table.build(f.shader, light_local, m.view_grid.bake_direction(view), s.fiber_tangent_nodes);
         for (int k = 0; k < s.spp; ++k) {
-          const NodeMarchInput in =
+          NodeMarchInput in =
               material_sample(m, f.volume, f.shader, fields, light_local, view, x, y, k);
+          in.fiber_table = &table;
           see_through += march_view_ray_all_lights(in, radiance.data(), scratch, counts);
         }
         EXPECT_NEAR(m.texel_alpha(0, view, x, y), 1.0f - see_through / s.spp, 1e-6f);
