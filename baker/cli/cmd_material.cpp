@@ -35,7 +35,7 @@ namespace clothbake::cli {
 
 namespace {
 struct MaterialArgs {
-  std::string input, out_dir, object;
+  std::string input, out_dir, object, light_map = "horizon";
   MaterialSettings settings;
   float depth_scale = 0.0f;  // 0: the scene object's, or 1 for a spec
   int threads = 0;
@@ -57,6 +57,8 @@ void run_material(const MaterialArgs& args) {
   // Step 1: everything read and checked before any work or output.
   const uint64_t budget = memory_budget_bytes(args.memory_gib);
   MaterialSettings settings = args.settings;
+  settings.light_map = args.light_map == "square" ? DirectionMap::HemiOctahedral
+                                                  : DirectionMap::HemiOctahedralHorizon;
   if (args.seed >= 0) settings.seed = uint64_t(args.seed);
   try {
     check_material_settings(settings);
@@ -189,6 +191,10 @@ void register_material_command(CLI::App& app, Action action) {
       ->capture_default_str();
   cmd->add_option("--field-supersample", args->settings.field_supersample,
                   "light-field points per cell edge")
+      ->capture_default_str();
+  cmd->add_option("--light-map", args->light_map,
+                  "light nodes: drawn toward the horizon, or the plain hemi-octahedral square")
+      ->check(CLI::IsMember({"horizon", "square"}))
       ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", args->settings.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")

@@ -124,6 +124,8 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["directions"] = s.directions;
   j["light_directions"] = s.light_directions;
   j["direction_map"] = "hemi-octahedral";
+  j["light_direction_map"] =
+      s.light_map == DirectionMap::HemiOctahedralHorizon ? "hemi-octahedral-horizon" : "hemi-octahedral";
   j["spp"] = s.spp;
   j["max_error"] = s.max_error;
   j["field_supersample"] = s.field_supersample;
@@ -285,6 +287,11 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
   top.read("max_error", s.max_error);
   top.read("seed", s.seed);
   top.read("field_supersample", s.field_supersample);
+  std::string light_map = "hemi-octahedral";
+  top.read("light_direction_map", light_map);
+  if (light_map == "hemi-octahedral-horizon") s.light_map = DirectionMap::HemiOctahedralHorizon;
+  else if (light_map == "hemi-octahedral") s.light_map = DirectionMap::HemiOctahedral;
+  else top.fail("light_direction_map", "must be \"hemi-octahedral-horizon\" or \"hemi-octahedral\"");
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
   try {
     check_material_settings(s);
@@ -324,6 +331,7 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
     o.fail(o.field("extinction_per_mm"), "must be positive");
   m.view_grid.k = s.directions;
   m.light_grid.k = s.light_directions;
+  m.light_grid.map = s.light_map;
   top.read("max_rank", m.max_rank);
   if (m.max_rank < 0 || m.max_rank > m.light_count())
     top.fail("max_rank", "must be in [0, " + std::to_string(m.light_count()) + "]");

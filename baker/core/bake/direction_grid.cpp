@@ -24,9 +24,24 @@ V3f hemi_oct_decode(const V2f& uv) {
   return V3f(px, py, z).normalized();
 }
 
+namespace {
+/// The horizon warp of DirectionMap::HemiOctahedralHorizon on the diamond.
+V2f warp_toward_horizon(V2f p, bool to_grid) {
+  const float rho = std::fabs(p.x) + std::fabs(p.y);
+  if (!(rho > 0.0f)) return p;
+  const float r = std::min(rho, 1.0f);
+  const float mapped = to_grid ? 1.0f - std::sqrt(1.0f - r) : 1.0f - (1.0f - r) * (1.0f - r);
+  return p * (mapped / rho);
+}
+}  // namespace
+
 V3f DirectionGrid::node_direction(int side, int i, int j) const {
   V3f d;
-  if (map == DirectionMap::Polar) {
+  if (map == DirectionMap::HemiOctahedralHorizon) {
+    const float a = 2.0f * float(i) / float(k - 1) - 1.0f, b = 2.0f * float(j) / float(k - 1) - 1.0f;
+    const V2f p = warp_toward_horizon(V2f(0.5f * (a + b), 0.5f * (a - b)), false);
+    d = V3f(p.x, p.y, std::max(0.0f, 1.0f - std::fabs(p.x) - std::fabs(p.y))).normalized();
+  } else if (map == DirectionMap::Polar) {
     const float phi = 2.0f * std::numbers::pi_v<float> * float(i) / float(k);
     const float theta = 0.5f * std::numbers::pi_v<float> * float(j) / float(k - 1);
     d = V3f(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
@@ -79,7 +94,13 @@ DirectionGrid::Footprint DirectionGrid::locate(const V3f& to_eye_in) const {
     f.fy = std::clamp(gy - float(f.j0), 0.0f, 1.0f);
     return f;
   }
-  const V2f uv = hemi_oct_encode(to_eye_local);
+  V2f uv = hemi_oct_encode(to_eye_local);
+  if (map == DirectionMap::HemiOctahedralHorizon) {
+    const float a = 2.0f * uv.x - 1.0f, b = 2.0f * uv.y - 1.0f;
+    const V2f p = warp_toward_horizon(V2f(0.5f * (a + b), 0.5f * (a - b)), true);
+    uv = V2f(std::clamp((p.x + p.y + 1.0f) * 0.5f, 0.0f, 1.0f),
+             std::clamp((p.x - p.y + 1.0f) * 0.5f, 0.0f, 1.0f));
+  }
   const float gx = uv.x * float(k - 1), gy = uv.y * float(k - 1);
   f.i0 = std::min(int(gx), k - 2);
   f.j0 = std::min(int(gy), k - 2);

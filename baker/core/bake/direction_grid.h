@@ -29,7 +29,13 @@ enum class DirectionMap {
   /// Polar: node (i, j) at azimuth phi = 2 pi i / K (periodic in i) and
   /// polar angle theta = (pi / 2) j / (K - 1) from the normal (j = 0: the
   /// normal, every i the same direction; j = K - 1: the horizon).
-  Polar
+  Polar,
+  /// The hemi-octahedral square with its nodes drawn toward the horizon:
+  /// the diamond's radius rho = |p.x| + |p.y| (1 on the horizon) is mapped
+  /// to rho' = 1 - sqrt(1 - rho) before the square's grid is laid, so node
+  /// rows are twice as dense at the horizon and half as dense at the normal.
+  /// The light nodes of a cloth material (grazing light changes fastest).
+  HemiOctahedralHorizon
 };
 
 struct DirectionGrid {

@@ -143,23 +143,27 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
   }
   const size_t r = size_t(max_rank);
   const size_t n_nodes = size_t(light_count());
-  thread_local std::vector<V3f> weights;  // per component: the lights folded in
-  weights.resize(r);
+  V3f weights[k_max_components];  // per component: the lights folded in
   V3f radiance(0.0f);
   float alpha_sum = 0.0f;
   for (int c = 0; c < 4; ++c) {
     if (wv[c] == 0.0f) continue;
     const int v = views[c];
     const int rk = rank[v];
-    std::fill(weights.begin(), weights.begin() + rk, V3f(0.0f));
+    std::fill(weights, weights + rk, V3f(0.0f));
     for (size_t l = 0; l < n_lights; ++l) {
+      // The light's nodes folded into one scalar per component first (a
+      // contiguous loop over k), then its RGB irradiance applied once.
       const LightNodes& ln = light_nodes[l];
+      float folded[k_max_components];
+      std::fill(folded, folded + rk, 0.0f);
       for (int n = 0; n < ln.count; ++n) {
         if (ln.w[n] == 0.0f) continue;
         const float* f = light_factors.data() + (size_t(v) * n_nodes + ln.node[n]) * r;
-        const V3f e = ln.irradiance * ln.w[n];
-        for (int k = 0; k < rk; ++k) weights[k] += e * f[k];
+        const float w = ln.w[n];
+        for (int k = 0; k < rk; ++k) folded[k] += w * f[k];
       }
+      for (int k = 0; k < rk; ++k) weights[k] += ln.irradiance * folded[k];
     }
     for (int mi = 0; mi < 2; ++mi) {
       const int m = mi == 0 ? m0 : m1;

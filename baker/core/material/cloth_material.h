@@ -28,6 +28,10 @@
 
 namespace clothbake {
 
+/// Components a lookup handles (the rank of a view node): 2 KL^2 at most,
+/// KL <= 32 (material_settings.h).
+inline constexpr int k_max_components = 2 * 32 * 32;
+
 class ClothMaterial {
  public:
   MaterialSettings settings;  ///< what the bake was asked (texels, directions, spp, error, seed)

@@ -101,6 +101,7 @@ ClothMaterial material_layout(const VolumeTexture& volume, const MaterialOptics&
   m.repeat_mm = volume.size_mm();
   m.view_grid.k = settings.directions;
   m.light_grid.k = settings.light_directions;
+  m.light_grid.map = settings.light_map;
   return m;
 }
 

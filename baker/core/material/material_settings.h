@@ -8,6 +8,7 @@
 
 #include <Imath/ImathVec.h>
 
+#include "core/bake/direction_grid.h"
 #include "core/fiber/fiber_model.h"
 #include "core/march/march_settings.h"
 
@@ -24,6 +25,9 @@ struct MaterialSettings {
   int directions = 16;        ///< K: view nodes per side of each hemisphere's grid
   int light_directions = 8;   ///< KL: light nodes per side of each hemisphere's grid
   int spp = 2;                ///< jittered samples per texel and view node
+  /// Light nodes' layout: drawn toward the horizon, where grazing light
+  /// changes fastest (direction_grid.h), or the plain square.
+  DirectionMap light_map = DirectionMap::HemiOctahedralHorizon;
   float max_error = 0.05f;    ///< per view node: relative RMSE of the factorisation, level 0
   int field_supersample = 2;  ///< light-transmittance field points per cell edge
   /// Fibre response per light node tabulated over k x k tangent directions
