@@ -177,10 +177,11 @@ def main():
              ("full K8 R32", ["--directions", "8", "--texels", "32", "--spp", "1"])]
     # Cloth materials (`clothbake material`, docs/material-format.md): baked
     # once for any camera and light; their seconds are amortised the same way.
-    materials = [("material K16 KL8 (default)", []),
-                 ("material K8 KL8", ["--directions", "8"]),
-                 ("material K16 KL8 E0.02", ["--max-error", "0.02"]),
-                 ("material K16 KL8 E0.2", ["--max-error", "0.2"])]
+    materials = [("material K16 KL10 (default)", []),
+                 ("material K8 KL10", ["--directions", "8"]),
+                 ("material K16 KL8", ["--light-directions", "8"]),
+                 ("material K16 KL10 E0.02", ["--max-error", "0.02"]),
+                 ("material K16 KL10 E0.2", ["--max-error", "0.2"])]
     bakes = [("bake", label, flags) for label, flags in bakes] + \
         [("material", label, flags) for label, flags in materials]
     if args.quick:

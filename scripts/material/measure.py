@@ -75,8 +75,13 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "material"))
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "baker", "clothbake"))
     ap.add_argument("--errors", default="0.2,0.1,0.05,0.02", help="--max-error values for the size curve")
+    ap.add_argument("--plot-only", action="store_true", help="redraw the size curve from results.json")
     args = ap.parse_args()
     exe, out = args.exe, args.out
+    if args.plot_only:
+        with open(os.path.join(out, "results.json")) as f:
+            plot(json.load(f)["size_curve"], out)
+        return
     os.makedirs(out, exist_ok=True)
     scenes = os.path.join(out, "scenes")
     run([sys.executable, os.path.join(HERE, "variants.py"),
@@ -166,6 +171,11 @@ def main():
 
     with open(os.path.join(out, "results.json"), "w") as f:
         json.dump(res, f, indent=2)
+    plot(curve, out)
+    log(f"done: {out}/results.json")
+
+
+def plot(curve, out):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -179,12 +189,11 @@ def main():
     ax.set_xscale("log")
     ax.set_xlabel("material on disk (MiB)")
     ax.set_ylabel("relative RMSE against the reference")
-    ax.set_title("paper scene, 64 spp, from one material (R32 K16 KL8)")
+    ax.set_title("paper scene, 64 spp, from one material (R32 K16 KL10)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out, "error_vs_size.png"), dpi=110)
-    log(f"done: {out}/results.json")
 
 
 if __name__ == "__main__":

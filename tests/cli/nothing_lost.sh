@@ -106,6 +106,9 @@ refused bake_disk_full "$out/b: cannot write manifest.json: File too large; noth
   limited 2 "$exe" bake "$slab" -o "$out/b" --directions 3 --texels 4 --spp 2 --quiet
 refused volume_disk_full "$out/v/volume.vdb: cannot write the file: File too large" \
   limited 8 "$exe" volume "$other_cloth" -o "$out/v"
+refused material_disk_full "$out/m: cannot write level_0.exr: " \
+  limited 2 "$exe" material "$slab" -o "$out/m" --texels 16 --directions 3 --light-directions 3 \
+  --spp 1 --field-supersample 1 --quiet
 
 # --- (c) a read-only output folder ----------------------------------------------
 # chmod 555 does not stop root: root runs the command without CAP_DAC_OVERRIDE

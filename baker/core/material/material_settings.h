@@ -23,7 +23,7 @@ inline constexpr float k_min_material_error = 0.0f, k_max_material_error = 1.0f;
 struct MaterialSettings {
   int texels = 32;            ///< R: texels per repeat side at level 0, a power of 2
   int directions = 16;        ///< K: view nodes per side of each hemisphere's grid
-  int light_directions = 8;   ///< KL: light nodes per side of each hemisphere's grid
+  int light_directions = 10;  ///< KL: light nodes per side of each hemisphere's grid
   int spp = 2;                ///< jittered samples per texel and view node
   /// Light nodes' layout: drawn toward the horizon, where grazing light
   /// changes fastest (direction_grid.h), or the plain square.
