@@ -48,6 +48,13 @@ std::string component_name(int k) {
   return buf;
 }
 
+/// The pixel of texel (x, y) of view node v in a level's atlas (tiles of
+/// side x side, K to a row; docs/material-format.md, "The images").
+size_t atlas_pixel(int v, int x, int y, int side, int K) {
+  const size_t px = size_t(v % K) * side + x, py = size_t(v / K) * side + y;
+  return py * size_t(K) * side + px;
+}
+
 /// The coefficient channels' names: alpha, then R, G, B of each component.
 std::vector<std::string> level_channels(int max_rank) {
   std::vector<std::string> names{"A"};
@@ -222,8 +229,7 @@ void write_material(const std::string& dir, const ClothMaterial& m, const Materi
         for (int y = 0; y < side; ++y)
           for (int x = 0; x < side; ++x) {
             const size_t t = size_t(y) * side + x;
-            const size_t px = size_t(v % K) * side + x, py = size_t(v / K) * side + y;
-            Imath::half* out = &pixels[(py * width + px) * nc];
+            Imath::half* out = &pixels[atlas_pixel(v, x, y, side, K) * nc];
             out[0] = m.alpha[l][size_t(v) * texels + t];
             const V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
             for (int k = 0; k < m.max_rank; ++k)
@@ -369,8 +375,7 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
       for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) {
           const size_t t = size_t(y) * side + x;
-          const size_t px = size_t(v % K) * side + x, py = size_t(v / K) * side + y;
-          const Imath::half* in = &pixels[(py * width + px) * nc];
+          const Imath::half* in = &pixels[atlas_pixel(v, x, y, side, K) * nc];
           m.alpha[l][size_t(v) * texels + t] = in[0];
           V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
           for (int k = 0; k < m.max_rank; ++k) c[k] = V3f(in[1 + 3 * k], in[2 + 3 * k], in[3 + 3 * k]);
