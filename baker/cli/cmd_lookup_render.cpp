@@ -48,7 +48,7 @@ void check_lookup_render_args(const LookupRenderArgs& args) {
 /// every cloth object must be of the material's cloth and optics.
 void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t budget) {
   io::MaterialInfo info;
-  ClothMaterial material = io::read_material(args.bake_dir, info);
+  ClothMaterial material = io::read_material(args.bake_dir, info, budget);
   if (args.light_filter == "bilinear") material.light_filter = ClothMaterial::LightFilter::Bilinear;
   if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;

@@ -262,7 +262,8 @@ void write_material(const std::string& dir, const ClothMaterial& m, const Materi
 }
 
 // About 90 lines: every manifest field checked before any image is read.
-ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
+ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
+                            uint64_t memory_budget) {
   const std::string manifest_path = (fs::path(dir) / k_manifest).string();
   const json doc = parse_json_text(read_text_file(manifest_path, "a JSON file"), manifest_path);
   const JsonObject top(doc, "", manifest_path);
@@ -343,6 +344,17 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info) {
     top.fail("max_rank", "must be in [0, " + std::to_string(m.light_count()) + "]");
   int levels = 0;
   top.read("levels", levels);
+  {
+    // In memory: per level and view node, RGB floats per component and an
+    // alpha (4/3 of level 0 over the pyramid), and the float light factors.
+    const double texels = double(s.texels) * double(s.texels) * 4.0 / 3.0;
+    const double bytes = double(m.view_count()) *
+                         (texels * (12.0 * m.max_rank + 4.0) + 4.0 * m.light_count() * m.max_rank);
+    if (bytes > double(memory_budget))
+      top.fail("max_rank", "the table needs " + std::to_string(uint64_t(bytes) >> 20) +
+                               " MiB in memory, over the budget of " +
+                               std::to_string(memory_budget >> 20) + " MiB");
+  }
   m.allocate();
   if (levels != m.levels())
     top.fail("levels", std::to_string(s.texels) + " texels give " + std::to_string(m.levels()) +

@@ -38,7 +38,10 @@ bool is_material_folder(const std::string& dir);
 void write_material(const std::string& dir, const ClothMaterial& material,
                     const MaterialInfo& info);
 
-/// Reads and checks a material folder.
-ClothMaterial read_material(const std::string& dir, MaterialInfo& info);
+/// Reads and checks a material folder. A manifest whose table would not fit
+/// `memory_budget_bytes` (as floats in memory) is refused before anything
+/// is allocated.
+ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
+                            uint64_t memory_budget_bytes = uint64_t(1) << 40);
 
 }  // namespace clothbake::io

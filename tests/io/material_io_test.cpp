@@ -149,6 +149,14 @@ TEST(MaterialIo, DamagedFoldersNameTheFileAndField) {
     edit_manifest(d, [](nlohmann::json& j) { j["ranks"][2] = 1000; });
     EXPECT_NE(error_of(d.string()).find("ranks[2]"), std::string::npos) << error_of(d.string());
   }
+  {  // a manifest whose table would not fit in memory: refused before allocating
+    const fs::path d = copy("huge");
+    edit_manifest(d, [](nlohmann::json& j) {
+      j["texels"] = 1024; j["levels"] = 11; j["directions"] = 32; j["light_directions"] = 32;
+      j["max_rank"] = 2048; j["ranks"] = std::vector<int>(2048, 0); j["errors"] = std::vector<float>(2048, 0.0f);
+    });
+    EXPECT_NE(error_of(d.string()).find("max_rank: the table needs"), std::string::npos) << error_of(d.string());
+  }
   {  // another format
     const fs::path d = copy("format");
     edit_manifest(d, [](nlohmann::json& j) { j["format"] = "clothbake-lookup"; });
