@@ -1,0 +1,407 @@
+"""A cloth material (docs/material-format.md) re-packed for Blender's nodes.
+
+clothbake's material stores, per mip level, an atlas with one channel set
+per SVD component (alpha + 3 x max_rank channels) and a light-factor image
+indexed by (light node, view node). Blender's Image Texture node reads RGBA,
+and a node tree cannot loop, so the Apply step reads two RGBA images whose
+addresses a few Math nodes compute (clothbake.blender.material_apply):
+
+coefficients (`coefficients.exr`, half RGBA):
+    level L (S = max(1, texels >> L) texels a side, tile pitch P = S + 2)
+    occupies rows [Y_L, Y_L + 2 K P) from the bottom, with
+    Y_L = 2 K (2 S0 (1 - 2^-L) + 2 L) (S0 = texels; exact, as every level
+    halves S until S = 1). View node (side, i, j), component k: the tile
+    whose bottom-left pixel is ((k K + i) P, Y_L + (side K + j) P). Texel
+    (tx, ty) is pixel (1 + tx, 1 + ty) of the tile; the one-pixel gutter
+    holds the periodic neighbours (the weave repeats), so a lookup at
+    tile + 1 + floor(t - 0.5 + xi) for xi in [0, 1) is, on average over xi,
+    the periodic bilinear blend clothbake's lookup makes.
+    RGB = C_L(x, v, k); A = alpha A_L(x, v) (in every component's tile).
+
+light factors (`light_factors.exr`, float RGBA):
+    F(v, n, k) resampled from the material's light nodes (Catmull-Rom, as
+    clothbake's lookup blends them) onto a plain hemi-octahedral grid of
+    M x M directions per side, so that a nearest-or-bilinear read in nodes
+    stands in for the 4 x 4 Catmull-Rom clothbake evaluates. Tile of view
+    node (side_v, i, j), component group g (components 4g .. 4g+3 in RGBA),
+    light side sl: bottom-left pixel (((g K + i) 2 + sl) Q, (side_v K + j) Q),
+    Q = M + 2; direction grid node (a, b) is pixel (1 + a, 1 + b) of it.
+
+The first `rank` components of each view node are kept (the SVD orders them
+by singular value, so this is each view's best rank-`rank` truncation).
+
+The packed images go into `MATERIAL_DIR/blender-r{rank}-m{M}/` with a
+pack.json, written through a temporary folder and a rename, and are reused
+while the material's manifest is unchanged.
+"""
+import hashlib
+import json
+import math
+import os
+import shutil
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ClothbakeError
+
+FORMAT = "clothbake-material"
+PACK_VERSION = 1
+DEFAULT_RANK = 16       # components Blender evaluates (node count grows with it)
+DEFAULT_DENSE = 24      # light directions per side of the resampled grid
+GPU_MAX_SIDE = 16384    # largest texture side Eevee (Mesa llvmpipe) accepts
+
+HORIZON = "hemi-octahedral-horizon"
+SQUARE = "hemi-octahedral"
+
+
+@dataclass
+class MaterialInfo:
+    folder: str
+    manifest: dict
+    texels: int
+    levels: int
+    k: int
+    kl: int
+    light_map: str
+    max_rank: int
+    ranks: list
+    repeat_mm: list
+    depth_scale: float
+    name: str
+    cloth_hash: str
+
+
+def _field(m, key, kind, path):
+    if key not in m:
+        raise ClothbakeError("is missing", path, key)
+    value = m[key]
+    if kind is int and not (isinstance(value, int) and not isinstance(value, bool)):
+        raise ClothbakeError("must be an integer", path, key)
+    if kind is float and not isinstance(value, (int, float)):
+        raise ClothbakeError("must be a number", path, key)
+    if kind is str and not isinstance(value, str):
+        raise ClothbakeError("must be a string", path, key)
+    return value
+
+
+def is_material_folder(folder):
+    path = os.path.join(folder, "manifest.json")
+    try:
+        with open(path) as f:
+            return json.load(f).get("format") == FORMAT
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def read_material(folder):
+    """The manifest of a material folder, checked as far as Blender needs it."""
+    folder = os.path.abspath(folder)
+    path = os.path.join(folder, "manifest.json")
+    if not os.path.isdir(folder):
+        raise ClothbakeError("is not a folder (a material folder holds manifest.json)", folder)
+    try:
+        with open(path) as f:
+            m = json.load(f)
+    except OSError as e:
+        raise ClothbakeError(f"cannot read it: {e.strerror}", path) from None
+    except ValueError as e:
+        raise ClothbakeError(f"is not valid JSON: {e}", path) from None
+    if not isinstance(m, dict) or m.get("format") != FORMAT:
+        raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
+    if _field(m, "version", int, path) != 1:
+        raise ClothbakeError("must be 1", path, "version")
+    texels = _field(m, "texels", int, path)
+    if texels < 1 or texels > 1024 or texels & (texels - 1):
+        raise ClothbakeError("must be a power of 2 in 1..1024", path, "texels")
+    levels = _field(m, "levels", int, path)
+    if levels != int(round(math.log2(texels))) + 1:
+        raise ClothbakeError("must be log2(texels) + 1", path, "levels")
+    k = _field(m, "directions", int, path)
+    kl = _field(m, "light_directions", int, path)
+    for key, value in (("directions", k), ("light_directions", kl)):
+        if not 2 <= value <= 32:
+            raise ClothbakeError("must be in 2..32", path, key)
+    if m.get("direction_map") != SQUARE:
+        raise ClothbakeError(f"must be \"{SQUARE}\"", path, "direction_map")
+    light_map = _field(m, "light_direction_map", str, path)
+    if light_map not in (HORIZON, SQUARE):
+        raise ClothbakeError(f"must be \"{HORIZON}\" or \"{SQUARE}\"", path, "light_direction_map")
+    max_rank = _field(m, "max_rank", int, path)
+    ranks = m.get("ranks")
+    if not isinstance(ranks, list) or len(ranks) != 2 * k * k or \
+            not all(isinstance(r, int) and 0 <= r <= max_rank for r in ranks):
+        raise ClothbakeError(f"must be {2 * k * k} integers in 0..max_rank", path, "ranks")
+    repeat = m.get("repeat_mm")
+    if not isinstance(repeat, list) or len(repeat) != 3 or \
+            not all(isinstance(x, (int, float)) and x > 0 for x in repeat):
+        raise ClothbakeError("must be 3 positive numbers", path, "repeat_mm")
+    optics = m.get("optics")
+    if not isinstance(optics, dict) or not isinstance(optics.get("depth_scale"), (int, float)):
+        raise ClothbakeError("must hold depth_scale", path, "optics")
+    files = m.get("files")
+    if not isinstance(files, dict) or not isinstance(files.get("levels"), list) or \
+            len(files["levels"]) != levels or not isinstance(files.get("light_factors"), str):
+        raise ClothbakeError("must name one file per level and the light factors", path, "files")
+    for name in files["levels"] + [files["light_factors"]]:
+        if not isinstance(name, str) or os.path.basename(name) != name or \
+                not os.path.isfile(os.path.join(folder, name)):
+            raise ClothbakeError(f"names {name!r}, which is not in the folder", path, "files")
+    cloth = m.get("cloth") if isinstance(m.get("cloth"), dict) else {}
+    return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
+                        [float(x) for x in repeat], float(optics["depth_scale"]),
+                        str(cloth.get("name", "")), str(cloth.get("hash", "")))
+
+
+# --- the light grids (baker/core/bake/direction_grid.cpp, in numpy) --------
+
+def hemi_oct_encode(d):
+    """(u, v) in [0, 1] of directions d (..., 3); z taken as |z|."""
+    norm = np.abs(d).sum(-1)
+    norm = np.where(norm > 0, norm, 1.0)
+    px, py = d[..., 0] / norm, d[..., 1] / norm
+    return np.clip((px + py + 1) * 0.5, 0, 1), np.clip((px - py + 1) * 0.5, 0, 1)
+
+
+def hemi_oct_decode(u, v):
+    a, b = 2 * u - 1, 2 * v - 1
+    px, py = 0.5 * (a + b), 0.5 * (a - b)
+    z = np.maximum(0.0, 1 - np.abs(px) - np.abs(py))
+    d = np.stack([px, py, z], -1)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def _warp_to_grid(u, v):
+    """The horizon warp (DirectionMap::HemiOctahedralHorizon) on (u, v)."""
+    a, b = 2 * u - 1, 2 * v - 1
+    px, py = 0.5 * (a + b), 0.5 * (a - b)
+    rho = np.abs(px) + np.abs(py)
+    r = np.minimum(rho, 1.0)
+    scale = np.where(rho > 0, (1 - np.sqrt(1 - r)) / np.where(rho > 0, rho, 1), 1.0)
+    px, py = px * scale, py * scale
+    return np.clip((px + py + 1) * 0.5, 0, 1), np.clip((px - py + 1) * 0.5, 0, 1)
+
+
+def _catmull_rom(t):
+    t2, t3 = t * t, t * t * t
+    return np.stack([0.5 * (-t3 + 2 * t2 - t), 0.5 * (3 * t3 - 5 * t2 + 2),
+                     0.5 * (-3 * t3 + 4 * t2 + t), 0.5 * (t3 - t2)], -1)
+
+
+def light_node_weights(dirs, kl, light_map):
+    """Weights (n, 2 kl^2) over the material's light nodes for directions
+    dirs (n, 3) toward the light, as ClothMaterial::shade blends them
+    (Catmull-Rom over the 4 x 4 nodes around, indices clamped)."""
+    n = len(dirs)
+    side = (dirs[:, 2] < 0).astype(int)
+    u, v = hemi_oct_encode(dirs)
+    if light_map == HORIZON:
+        u, v = _warp_to_grid(u, v)
+    gx, gy = u * (kl - 1), v * (kl - 1)
+    i0 = np.minimum(gx.astype(int), kl - 2)
+    j0 = np.minimum(gy.astype(int), kl - 2)
+    wx = _catmull_rom(np.clip(gx - i0, 0, 1))
+    wy = _catmull_rom(np.clip(gy - j0, 0, 1))
+    out = np.zeros((n, 2 * kl * kl))
+    rows = np.arange(n)
+    for b in range(4):
+        for a in range(4):
+            i = np.clip(i0 - 1 + a, 0, kl - 1)
+            j = np.clip(j0 - 1 + b, 0, kl - 1)
+            np.add.at(out, (rows, (side * kl + j) * kl + i), wx[:, a] * wy[:, b])
+    return out
+
+
+def dense_light_directions(m):
+    """Directions (2 m^2, 3) of the resampled grid, index (sl m + b) m + a."""
+    g = np.arange(m) / (m - 1)
+    u, v = np.meshgrid(g, g)             # v rows (b), u columns (a)
+    d = hemi_oct_decode(u, v).reshape(-1, 3)
+    back = d.copy()
+    back[:, 2] = -back[:, 2]
+    return np.concatenate([d, back])
+
+
+# --- packing ---------------------------------------------------------------
+
+@dataclass
+class Pack:
+    folder: str           # the pack's folder
+    coefficients: str     # path of coefficients.exr
+    light_factors: str    # path of light_factors.exr
+    rank: int             # components kept (>= 1)
+    dense: int            # M
+    width: int            # coefficients.exr
+    height: int
+    light_width: int
+    light_height: int
+    groups: int           # ceil(rank / 4)
+
+
+def level_offset(texels, k, level):
+    """Y_L of the module docstring, in pixels from the bottom."""
+    return 2 * k * (2 * texels * (1 - 0.5 ** level) + 2 * level)
+
+
+def coefficient_size(info, rank):
+    width = rank * info.k * (info.texels + 2)
+    height = int(round(level_offset(info.texels, info.k, info.levels)))
+    return width, height
+
+
+def _read_exr(path, what):
+    import OpenImageIO as oiio  # Debian's python3-openimageio (BLENDER_NOTES.md)
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        raise ClothbakeError(f"cannot read the {what}: {buf.geterror()}", path)
+    pixels = buf.get_pixels(oiio.FLOAT)
+    if pixels is None or buf.has_error:
+        raise ClothbakeError(f"cannot read the {what}: {buf.geterror()}", path)
+    return pixels, list(buf.spec().channelnames)
+
+
+def _write_exr(path, rgba, kind):
+    """rgba (H, W, 4), row 0 at the bottom as Blender addresses it; EXR rows
+    are stored top-down."""
+    import OpenImageIO as oiio
+    h, w, _ = rgba.shape
+    spec = oiio.ImageSpec(w, h, 4, oiio.HALF if kind == "half" else oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B", "A")
+    spec.attribute("compression", "zip")
+    out = oiio.ImageOutput.create(path)
+    if out is None or not out.open(path, spec):
+        raise ClothbakeError(f"cannot write: {oiio.geterror()}", path)
+    ok = out.write_image(np.ascontiguousarray(rgba[::-1], dtype=np.float32))
+    out.close()
+    if not ok:
+        raise ClothbakeError(f"cannot write: {out.geterror()}", path)
+
+
+def _channel(names, name, path):
+    try:
+        return names.index(name)
+    except ValueError:
+        raise ClothbakeError(f"has no channel {name}", path) from None
+
+
+def pack_key(info, rank, dense):
+    text = json.dumps(info.manifest, sort_keys=True)
+    return hashlib.sha256(f"{PACK_VERSION} {rank} {dense} {text}".encode()).hexdigest()[:16]
+
+
+def blender_rank(info, rank=None):
+    """Components Blender evaluates: `rank` (default DEFAULT_RANK), at most
+    the material's max_rank and what fits the GPU's widest texture."""
+    want = DEFAULT_RANK if rank is None else int(rank)
+    if want < 1:
+        raise ClothbakeError("must be at least 1", "", "rank")
+    fits = max(1, GPU_MAX_SIDE // (info.k * (info.texels + 2)))
+    return max(1, min(want, max(1, info.max_rank), fits))
+
+
+def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
+    """The Pack of `info` (MaterialInfo), made once and reused."""
+    rank = blender_rank(info, rank)
+    if not 2 <= dense <= 64:
+        raise ClothbakeError("must be in 2..64", "", "dense")
+    folder = os.path.join(info.folder, f"blender-r{rank}-m{dense}")
+    key = pack_key(info, rank, dense)
+    groups = (rank + 3) // 4
+    k, s0 = info.k, info.texels
+    width, height = coefficient_size(info, rank)
+    q = dense + 2
+    lw, lh = groups * k * 2 * q, 2 * k * q
+    pack = Pack(folder, os.path.join(folder, "coefficients.exr"),
+                os.path.join(folder, "light_factors.exr"), rank, dense, width, height, lw, lh,
+                groups)
+    try:
+        with open(os.path.join(folder, "pack.json")) as f:
+            if json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
+                    os.path.isfile(pack.light_factors):
+                return pack
+    except (OSError, ValueError):
+        pass
+
+    files = info.manifest["files"]
+    views = 2 * k * k
+    coeff = np.zeros((height, width, 4), np.float32)
+    for level in range(info.levels):
+        if progress:
+            progress(level / (info.levels + 1))
+        path = os.path.join(info.folder, files["levels"][level])
+        px, names = _read_exr(path, f"level {level}")
+        s = max(1, s0 >> level)
+        if px.shape[:2] != (2 * k * s, k * s):
+            raise ClothbakeError(f"is {px.shape[1]} x {px.shape[0]} pixels; the manifest says "
+                                 f"{k * s} x {2 * k * s}", path)
+        p = s + 2
+        y0 = int(round(level_offset(s0, k, level)))
+        alpha = px[..., _channel(names, "A", path)]
+        # (2K rows of tiles, S, K columns, S) -> [row, col, ty, tx], rows top-down in the file
+        a_t = alpha.reshape(2 * k, s, k, s).transpose(0, 2, 1, 3)
+        for comp in range(rank):
+            if comp < info.max_rank:
+                rgb = np.stack([px[..., _channel(names, f"k{comp:04d}.{c}", path)]
+                                for c in "RGB"], -1)
+            else:
+                rgb = np.zeros(px.shape[:2] + (3,), np.float32)
+            c_t = rgb.reshape(2 * k, s, k, s, 3).transpose(0, 2, 1, 3, 4)
+            tile = np.concatenate([c_t, a_t[..., None]], -1)       # (2K, K, S, S, 4)
+            # texel (tx, ty) with ty counted from the repeat's y = 0 (the
+            # file's row order inside a tile), placed with the gutter
+            padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
+            for row in range(2 * k):
+                for col in range(k):
+                    x = (comp * k + col) * p
+                    y = y0 + row * p
+                    coeff[y:y + p, x:x + p] = padded[row, col]
+    # The tile's row ty is texel y = ty (y up in Blender's image space), so
+    # the array is stored bottom-up as it is: nothing to flip per tile.
+
+    path = os.path.join(info.folder, files["light_factors"])
+    lf, names = _read_exr(path, "light factors")
+    nl = 2 * info.kl * info.kl
+    if lf.shape[:2] != (views, nl):
+        raise ClothbakeError(f"is {lf.shape[1]} x {lf.shape[0]} pixels; the manifest says "
+                             f"{nl} x {views}", path)
+    f = np.zeros((views, nl, groups * 4), np.float32)
+    for comp in range(min(rank, info.max_rank)):
+        f[..., comp] = lf[..., _channel(names, f"k{comp:04d}", path)]
+    weights = light_node_weights(dense_light_directions(dense), info.kl, info.light_map)
+    dense_f = np.einsum("dn,vnc->vdc", weights, f.astype(np.float64)).astype(np.float32)
+    dense_f = dense_f.reshape(2, k, k, 2, dense, dense, groups, 4)  # sv, j, i, sl, b, a, g, c
+    lights = np.zeros((lh, lw, 4), np.float32)
+    for g in range(groups):
+        block = np.pad(dense_f[..., g, :], ((0, 0),) * 4 + ((1, 1), (1, 1), (0, 0)), mode="edge")
+        for sv in range(2):
+            for j in range(k):
+                for i in range(k):
+                    for sl in range(2):
+                        x = ((g * k + i) * 2 + sl) * q
+                        y = (sv * k + j) * q
+                        lights[y:y + q, x:x + q] = block[sv, j, i, sl]
+    if progress:
+        progress(info.levels / (info.levels + 1))
+
+    tmp = f"{folder}.tmp-{os.getpid()}"
+    shutil.rmtree(tmp, ignore_errors=True)
+    os.makedirs(tmp)
+    try:
+        _write_exr(os.path.join(tmp, "coefficients.exr"), coeff, "half")
+        _write_exr(os.path.join(tmp, "light_factors.exr"), lights, "float")
+        with open(os.path.join(tmp, "pack.json"), "w") as fh:
+            json.dump({"key": key, "rank": rank, "dense": dense, "width": width,
+                       "height": height, "light_width": lw, "light_height": lh,
+                       "groups": groups}, fh, indent=2)
+        old = f"{folder}.old-{os.getpid()}"
+        if os.path.isdir(folder):
+            os.rename(folder, old)
+        os.rename(tmp, folder)
+        shutil.rmtree(old, ignore_errors=True)
+    except OSError as e:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise ClothbakeError(f"cannot write the Blender images: {e.strerror}", folder) from None
+    if progress:
+        progress(1.0)
+    return pack
+
