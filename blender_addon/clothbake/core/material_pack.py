@@ -46,7 +46,7 @@ import numpy as np
 from .errors import ClothbakeError
 
 FORMAT = "clothbake-material"
-PACK_VERSION = 1
+PACK_VERSION = 2
 DEFAULT_RANK = 16       # components Blender evaluates (node count grows with it)
 DEFAULT_DENSE = 24      # light directions per side of the resampled grid
 GPU_MAX_SIDE = 16384    # largest texture side Eevee (Mesa llvmpipe) accepts
@@ -188,12 +188,13 @@ def _catmull_rom(t):
                      0.5 * (-3 * t3 + 4 * t2 + t), 0.5 * (t3 - t2)], -1)
 
 
-def light_node_weights(dirs, kl, light_map):
+def light_node_weights(dirs, kl, light_map, side=None):
     """Weights (n, 2 kl^2) over the material's light nodes for directions
     dirs (n, 3) toward the light, as ClothMaterial::shade blends them
-    (Catmull-Rom over the 4 x 4 nodes around, indices clamped)."""
+    (Catmull-Rom over the 4 x 4 nodes around, indices clamped). `side`
+    (n,) overrides z's sign: a horizon direction of side 1 has z = -0."""
     n = len(dirs)
-    side = (dirs[:, 2] < 0).astype(int)
+    side = (dirs[:, 2] < 0).astype(int) if side is None else np.asarray(side, int)
     u, v = hemi_oct_encode(dirs)
     if light_map == HORIZON:
         u, v = _warp_to_grid(u, v)
@@ -213,13 +214,14 @@ def light_node_weights(dirs, kl, light_map):
 
 
 def dense_light_directions(m):
-    """Directions (2 m^2, 3) of the resampled grid, index (sl m + b) m + a."""
+    """Directions (2 m^2, 3) of the resampled grid, index (sl m + b) m + a,
+    and their sides."""
     g = np.arange(m) / (m - 1)
     u, v = np.meshgrid(g, g)             # v rows (b), u columns (a)
     d = hemi_oct_decode(u, v).reshape(-1, 3)
     back = d.copy()
     back[:, 2] = -back[:, 2]
-    return np.concatenate([d, back])
+    return np.concatenate([d, back]), np.repeat([0, 1], m * m)
 
 
 # --- packing ---------------------------------------------------------------
@@ -367,7 +369,8 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     f = np.zeros((views, nl, groups * 4), np.float32)
     for comp in range(min(rank, info.max_rank)):
         f[..., comp] = lf[..., _channel(names, f"k{comp:04d}", path)]
-    weights = light_node_weights(dense_light_directions(dense), info.kl, info.light_map)
+    dirs, sides = dense_light_directions(dense)
+    weights = light_node_weights(dirs, info.kl, info.light_map, sides)
     dense_f = np.einsum("dn,vnc->vdc", weights, f.astype(np.float64)).astype(np.float32)
     dense_f = dense_f.reshape(2, k, k, 2, dense, dense, groups, 4)  # sv, j, i, sl, b, a, g, c
     lights = np.zeros((lh, lw, 4), np.float32)

@@ -1,0 +1,148 @@
+"""The material re-packed for Blender (clothbake.core.material_pack): every
+texel, view node, level and component at the address the node tree computes,
+the periodic gutters, the dense light grid equal to the material's light
+factors where its directions are the material's nodes, and refusals."""
+import json
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+from clothbake.core import material_pack as mp
+from clothbake.core.errors import ClothbakeError
+
+
+@pytest.fixture(scope="module")
+def material(tmp_path_factory, request):
+    source = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+    exe = os.environ.get("CLOTHBAKE_BIN", os.path.join(source, "build", "baker", "clothbake"))
+    out = str(tmp_path_factory.mktemp("m") / "material")
+    # KL = 3 on the plain square: the dense grid of M = 5 holds every node.
+    subprocess.run([exe, "material", os.path.join(source, "testscenes", "slab", "scene.json"),
+                    "-o", out, "--texels", "4", "--directions", "3", "--light-directions", "3",
+                    "--spp", "1", "--light-map", "square", "--quiet"], check=True,
+                   stdout=subprocess.DEVNULL)
+    return out
+
+
+def read(path):
+    buf = oiio.ImageBuf(path)
+    return buf.get_pixels(oiio.FLOAT), list(buf.spec().channelnames)
+
+
+def test_level_offsets_are_the_running_sum():
+    for texels in (1, 2, 8, 32, 1024):
+        k = 5
+        levels = int(np.log2(texels)) + 1
+        running = 0
+        for level in range(levels + 1):
+            assert mp.level_offset(texels, k, level) == pytest.approx(running, abs=1e-9)
+            running += 2 * k * (max(1, texels >> level) + 2)
+
+
+def test_every_texel_at_the_node_trees_address(material):
+    info = mp.read_material(material)
+    pack = mp.pack_material(info, rank=64, dense=5)
+    assert pack.rank == max(1, info.max_rank)
+    coeff, _ = read(pack.coefficients)
+    coeff = coeff[::-1]  # row 0 at the bottom, as Blender addresses it
+    assert coeff.shape[:2] == (pack.height, pack.width)
+    k = info.k
+    for level in range(info.levels):
+        px, names = read(os.path.join(material, f"level_{level}.exr"))
+        s = max(1, info.texels >> level)
+        p = s + 2
+        y0 = int(round(mp.level_offset(info.texels, k, level)))
+        for v in range(2 * k * k):
+            row, col = divmod(v, k)        # row = side K + j
+            tile_a = px[row * s:(row + 1) * s, col * s:(col + 1) * s, names.index("A")]
+            for comp in range(pack.rank):
+                tile = np.stack([px[row * s:(row + 1) * s, col * s:(col + 1) * s,
+                                    names.index(f"k{comp:04d}.{c}")] for c in "RGB"], -1)
+                x0, yb = (comp * k + col) * p, y0 + row * p
+                got = coeff[yb:yb + p, x0:x0 + p]
+                # inside: texel (tx, ty) at (1 + tx, 1 + ty); gutter: periodic
+                want = np.pad(np.concatenate([tile, tile_a[..., None]], -1),
+                              ((1, 1), (1, 1), (0, 0)), mode="wrap")
+                np.testing.assert_allclose(got, want, rtol=1e-3, atol=1e-6)
+
+
+def test_dense_light_grid_holds_the_nodes(material):
+    info = mp.read_material(material)
+    pack = mp.pack_material(info, rank=64, dense=5)
+    lf, names = read(os.path.join(material, "light_factors.exr"))
+    dense, _ = read(pack.light_factors)
+    dense = dense[::-1]
+    k, kl, q = info.k, info.kl, pack.dense + 2
+    for v in range(2 * k * k):
+        sv, rest = divmod(v, k * k)
+        j, i = divmod(rest, k)
+        for n in range(2 * kl * kl):
+            sl, rest = divmod(n, kl * kl)
+            lj, li = divmod(rest, kl)
+            a, b = 2 * li, 2 * lj      # M - 1 = 4 = 2 (KL - 1)
+            for comp in range(pack.rank):
+                g, c = divmod(comp, 4)
+                x = ((g * k + i) * 2 + sl) * q + 1 + a
+                y = (sv * k + j) * q + 1 + b
+                assert dense[y, x, c] == pytest.approx(lf[v, n, names.index(f"k{comp:04d}")],
+                                                       rel=1e-5, abs=1e-7)
+
+
+@pytest.mark.parametrize("light_map", [mp.HORIZON, mp.SQUARE])
+def test_catmull_rom_weights_sum_to_one(light_map):
+    rng = np.random.default_rng(1)
+    d = rng.normal(size=(500, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    w = mp.light_node_weights(d, 10, light_map)
+    np.testing.assert_allclose(w.sum(1), 1.0, atol=1e-9)
+    side = (d[:, 2] < 0)
+    assert np.all(w[side, :100] == 0) and np.all(w[~side, 100:] == 0)
+
+
+def test_pack_is_reused_and_remade(material):
+    info = mp.read_material(material)
+    first = mp.pack_material(info, rank=1, dense=4)
+    stamp = os.stat(first.coefficients).st_mtime_ns
+    again = mp.pack_material(mp.read_material(material), rank=1, dense=4)
+    assert os.stat(again.coefficients).st_mtime_ns == stamp
+    with open(os.path.join(first.folder, "pack.json")) as f:
+        meta = json.load(f)
+    meta["key"] = "stale"
+    with open(os.path.join(first.folder, "pack.json"), "w") as f:
+        json.dump(meta, f)
+    remade = mp.pack_material(info, rank=1, dense=4)
+    with open(os.path.join(remade.folder, "pack.json")) as f:
+        assert json.load(f)["key"] == mp.pack_key(info, 1, 4)
+    assert not [n for n in os.listdir(material) if ".tmp-" in n or ".old-" in n]
+
+
+@pytest.mark.parametrize("field,value,text", [
+    ("format", "clothbake-lookup", "format"),
+    ("texels", 3, "texels"),
+    ("ranks", [1, 2], "ranks"),
+    ("directions", 1, "directions"),
+    ("light_direction_map", "polar", "light_direction_map"),
+])
+def test_bad_manifest_names_the_field(material, tmp_path, field, value, text):
+    bad = tmp_path / "bad"
+    shutil.copytree(material, bad)
+    path = bad / "manifest.json"
+    m = json.loads(path.read_text())
+    m[field] = value
+    path.write_text(json.dumps(m))
+    with pytest.raises(ClothbakeError) as e:
+        mp.read_material(str(bad))
+    assert e.value.field == text and str(path) in str(e.value)
+
+
+def test_missing_image_is_named(material, tmp_path):
+    bad = tmp_path / "bad"
+    shutil.copytree(material, bad)
+    os.remove(bad / "level_1.exr")
+    with pytest.raises(ClothbakeError) as e:
+        mp.read_material(str(bad))
+    assert "level_1.exr" in str(e.value)
