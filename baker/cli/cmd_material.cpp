@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
@@ -21,7 +23,9 @@
 #include "core/texture/volume_generator.h"
 #include "core/util/error.h"
 #include "core/util/random.h"
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include "io/atomic_file.h"
 #include "io/cloth_spec_json.h"
@@ -42,12 +46,262 @@ struct MaterialArgs {
   double memory_gib = 0.0;
   long long seed = -1;
   bool quiet = false;
+  bool estimate = false;  ///< time a probe of the work, print the estimate as JSON; write nothing
 };
 
 std::string hex16(uint64_t h) {
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h);
   return hex;
+}
+
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// What `--estimate` measures and extrapolates (the bake's four steps,
+/// material_bake.h). Only the bake's own seconds are estimated (what the
+/// bake's report prints as "seconds"), not reading the input or writing the
+/// folder.
+struct MaterialEstimate {
+  int view_nodes = 0, light_nodes = 0;
+  uint64_t rays = 0;  ///< view marches of the whole bake: view nodes x texels^2 x spp
+  int probe_light_nodes = 0, probe_view_nodes = 0;
+  uint64_t probe_rays = 0;         ///< marched per light-field set (twice in all)
+  double probe_seconds = 0.0;      ///< wall time of the whole probe
+  double fields_seconds = 0.0;     ///< step 1, extrapolated
+  double marches_seconds = 0.0;    ///< step 2 (fibre tables and marches), extrapolated
+  double factorise_seconds = 0.0;  ///< step 3, extrapolated
+  double mips_seconds = 0.0;       ///< step 4, extrapolated from a copy of the full-rank size
+  double seconds = 0.0;
+  uint64_t light_field_bytes = 0;  ///< the light fields
+  uint64_t fixed_bytes = 0;        ///< fields plus one view's matrix per thread
+  uint64_t max_bytes = 0;          ///< the table at full rank (every view at rank = light nodes)
+};
+
+/// Probe sizes: light nodes built and marched, view nodes marched, rays per
+/// probe view. On the paper scene at the defaults (200 light nodes, 512 view
+/// nodes) the probe takes about 2 s on 2 threads, mostly the 8 fields.
+constexpr int k_probe_light_nodes = 8;
+constexpr int k_probe_view_nodes = 32;
+constexpr int k_probe_rays_per_view = 128;
+
+/// `count` distinct node indices of [0, n) picked by the golden-ratio
+/// sequence. Nodes cost differently by direction (horizon nodes march or
+/// build longest), and node indices run row by row over a K x K grid: even
+/// strides keep hitting the same column (with K = 16 and 8 picks of 512,
+/// all on the horizon), the golden ratio mixes rows and columns.
+std::vector<int> pick_nodes(int n, int count) {
+  std::vector<int> out;
+  std::vector<bool> taken(size_t(n), false);
+  double x = 0.5;
+  while (int(out.size()) < std::min(n, count)) {
+    int i = std::min(n - 1, int(x * double(n)));
+    while (taken[size_t(i)]) i = (i + 1) % n;
+    taken[size_t(i)] = true;
+    out.push_back(i);
+    x += 0.6180339887498949;
+    x -= std::floor(x);
+  }
+  return out;
+}
+
+/// Times a probe of the bake's real work on its threads, with the core's own
+/// functions (LightFieldSet::build, FiberLightTable::build, material_sample,
+/// march_view_ray_all_lights, an Eigen factorisation of the real size), and
+/// extrapolates by counts:
+///  - fields: P light nodes spread over the grid built, times L / P;
+///  - marches: a march's cost is linear in the light nodes it serves (each
+///    sample reads every node's transmittance and fibre response), so the
+///    probe rays of each probe view are marched twice, with a 1-node and a
+///    P-node field set, and the cost per ray is extrapolated to L nodes; the
+///    fibre table (k^2 x L evaluations per view) is built for P nodes, times
+///    L / P;
+///  - factorisation: one Gram matrix and eigensolve of the real size, timed;
+///  - mips: one level-0 table at full rank box-averaged, timed.
+/// Each part's core-seconds are divided by the thread count, as the bake
+/// runs its views in parallel. Writes nothing.
+MaterialEstimate estimate_material(const VolumeTexture& volume, const FiberShader& shader,
+                                   const MaterialOptics& optics, const MaterialSettings& settings,
+                                   int threads) {
+  using Clock = std::chrono::steady_clock;
+  MaterialEstimate e;
+  const auto probe_start = Clock::now();
+  ClothMaterial material = material_layout(volume, optics, settings);
+  const std::vector<Imath::V3f> light_local = material_light_directions(material);
+  const int L = material.light_count(), V = material.view_count(), R = settings.texels;
+  const uint64_t texels = uint64_t(R) * uint64_t(R);
+  e.view_nodes = V;
+  e.light_nodes = L;
+  e.rays = uint64_t(V) * texels * uint64_t(settings.spp);
+  e.light_field_bytes = LightFieldSet::bytes_for(volume, L, settings.field_supersample);
+  e.fixed_bytes = material_bake_fixed_bytes(volume, settings, threads);
+  {
+    uint64_t floats = uint64_t(V) * uint64_t(L) * uint64_t(L);  // light factors
+    for (int side = R;; side /= 2) {
+      floats += uint64_t(V) * uint64_t(side) * uint64_t(side) * (uint64_t(L) * 3 + 1);
+      if (side == 1) break;
+    }
+    e.max_bytes = floats * sizeof(float);
+  }
+
+  // Step 1: P light nodes' fields, spread over the grid; and the first of
+  // them alone, for the marches' cost per light node.
+  const int P = std::min(L, k_probe_light_nodes);
+  e.probe_light_nodes = P;
+  std::vector<Imath::V3f> probe_local, probe_texture;
+  for (int n : pick_nodes(L, P)) {
+    probe_local.push_back(light_local[size_t(n)]);
+    probe_texture.push_back(material.texture_from_material(light_local[size_t(n)]));
+  }
+  auto t0 = Clock::now();
+  const LightFieldSet fields_p = LightFieldSet::build(volume, probe_texture, optics.extinction_per_mm,
+                                                      settings.field_supersample);
+  e.fields_seconds = seconds_since(t0) * double(L) / double(P);
+  const LightFieldSet fields_1 =
+      LightFieldSet::build(volume, std::span(probe_texture).first(1), optics.extinction_per_mm,
+                           settings.field_supersample);
+
+  // Step 2: probe views spread over both hemispheres, on the bake's threads.
+  const int VP = std::min(V, k_probe_view_nodes);
+  e.probe_view_nodes = VP;
+  const std::vector<int> views = pick_nodes(V, VP);
+  const uint64_t rays_per_view = texels * uint64_t(settings.spp);
+  const uint64_t probe_rays = std::min<uint64_t>(rays_per_view, k_probe_rays_per_view);
+  e.probe_rays = probe_rays * uint64_t(VP);
+  // Probe view i marches a run of consecutive rays (texels in the bake's
+  // order, row by row, spp each) starting at a point of the repeat picked
+  // per view: consecutive texels read neighbouring light-field points, and
+  // the bake's speed depends on that (rays scattered over the repeat ran
+  // 10 times slower per ray with the 200 nodes' fields).
+  const auto first_ray = [&](int i) {
+    const double x = double(i) * 0.6180339887498949 + 0.25;
+    return uint64_t((x - std::floor(x)) * double(rays_per_view - probe_rays));
+  };
+  const bool tabulate = settings.fiber_tangent_nodes > 0 && optics.shading == ShadingMode::Fiber;
+  struct Local {
+    FiberLightTable table_1, table_p;
+    NodeMarchScratch scratch_1, scratch_p;
+    NodeMarchCounts counts;
+    std::vector<Imath::V3f> radiance;
+    double table_core = 0.0, march_1_core = 0.0, march_p_core = 0.0;
+  };
+  tbb::enumerable_thread_specific<Local> locals;
+  tbb::parallel_for(0, VP, [&](int i) {
+    Local& local = locals.local();
+    const int view = views[size_t(i)];
+    const Imath::V3f to_eye = material.view_grid.bake_direction(view);
+    if (tabulate) {
+      local.table_1.build(shader, std::span(probe_local).first(1), to_eye,
+                          settings.fiber_tangent_nodes);
+      const auto tt = Clock::now();
+      local.table_p.build(shader, probe_local, to_eye, settings.fiber_tangent_nodes);
+      local.table_core += seconds_since(tt);
+    }
+    // The probe rays, each marched for 1 and for P light nodes in turn (so
+    // that a burst of other work on the machine slows both alike: their
+    // difference is what is extrapolated).
+    local.scratch_1.view_tag = local.scratch_p.view_tag = uint32_t(view) + 1;
+    local.radiance.resize(size_t(P));
+    const std::span<const Imath::V3f> lights_1 = std::span<const Imath::V3f>(probe_local).first(1);
+    for (uint64_t r = first_ray(i); r < first_ray(i) + probe_rays; ++r) {
+      const int k = int(r % uint64_t(settings.spp)), t = int(r / uint64_t(settings.spp));
+      for (int pass = 0; pass < 2; ++pass) {
+        const auto tm = Clock::now();
+        NodeMarchInput in =
+            material_sample(material, volume, shader, pass == 0 ? fields_1 : fields_p,
+                            pass == 0 ? lights_1 : std::span<const Imath::V3f>(probe_local), view,
+                            t % R, t / R, k);
+        if (tabulate) in.fiber_table = pass == 0 ? &local.table_1 : &local.table_p;
+        std::fill(local.radiance.begin(), local.radiance.end(), Imath::V3f(0.0f));
+        if (in.length_mm > 0.0f)
+          march_view_ray_all_lights(in, local.radiance.data(),
+                                    pass == 0 ? local.scratch_1 : local.scratch_p, local.counts);
+        (pass == 0 ? local.march_1_core : local.march_p_core) += seconds_since(tm);
+      }
+    }
+  });
+  double table_core = 0.0, march_1_core = 0.0, march_p_core = 0.0;
+  for (const Local& l : locals) {
+    table_core += l.table_core;
+    march_1_core += l.march_1_core;
+    march_p_core += l.march_p_core;
+  }
+  // Per ray at L nodes: linear through the 1-node and P-node costs.
+  const double per_ray_1 = march_1_core / double(e.probe_rays);
+  const double per_ray_p = march_p_core / double(e.probe_rays);
+  const double per_ray =
+      P > 1 ? per_ray_1 + std::max(0.0, per_ray_p - per_ray_1) * double(L - 1) / double(P - 1)
+            : per_ray_p;
+  const double per_view_table = table_core / double(VP) * double(L) / double(P);
+  const double core_threads = double(std::max(threads, 1));
+  e.marches_seconds =
+      (per_view_table * double(V) + per_ray * double(e.rays)) / core_threads;
+
+  // Step 3: one view's factorisation, at the real size (3 R^2 rows by L
+  // light nodes) up to 64 x 64 texels, on a matrix of the same shape; the
+  // products scale with the rows, the eigensolve does not. Every view's is
+  // the same work.
+  {
+    const Eigen::Index rows = Eigen::Index(std::min<uint64_t>(texels, 64 * 64)) * 3;
+    const double row_scale = double(texels) * 3.0 / double(rows);
+    const Eigen::MatrixXf m = Eigen::MatrixXf::Random(rows, L).cwiseAbs();
+    const auto tg = Clock::now();
+    const Eigen::MatrixXd gram = (m.transpose() * m).cast<double>();
+    const double gram_seconds = seconds_since(tg);
+    const auto te = Clock::now();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+    const double eigen_seconds = seconds_since(te);
+    const auto tu = Clock::now();
+    const Eigen::MatrixXf u = m * eig.eigenvectors().cast<float>();
+    const double product_seconds = seconds_since(tu);
+    e.factorise_seconds = ((gram_seconds + product_seconds) * row_scale + eigen_seconds +
+                           (u.size() > 0 ? 0.0 : 1.0)) *  // keeps u from being optimised away
+                          double(V) / core_threads;
+  }
+
+  // Step 4: the mips (one thread in the bake): timed on 8 views of up to
+  // 256 x 256 texels at rank min(L, 8), scaled by views, texels and rank to
+  // the full-rank table (an upper bound).
+  {
+    ClothMaterial mips = material_layout(volume, optics, settings);
+    mips.settings.texels = std::min(R, 256);
+    mips.view_grid.k = 2;
+    mips.max_rank = std::min(L, 8);
+    mips.allocate();
+    const auto tm = Clock::now();
+    mips.build_mips();
+    e.mips_seconds = seconds_since(tm) * double(V) / double(mips.view_count()) * double(texels) /
+                     double(mips.settings.texels * mips.settings.texels) * double(L) /
+                     double(mips.max_rank);
+  }
+  e.seconds = e.fields_seconds + e.marches_seconds + e.factorise_seconds + e.mips_seconds;
+  e.probe_seconds = seconds_since(probe_start);
+  return e;
+}
+
+void print_estimate(const MaterialSettings& settings, const MaterialEstimate& e, int threads) {
+  const nlohmann::json report = {
+      {"seconds", e.seconds},
+      {"fields_seconds", e.fields_seconds},
+      {"marches_seconds", e.marches_seconds},
+      {"factorise_seconds", e.factorise_seconds},
+      {"mips_seconds", e.mips_seconds},
+      {"probe_seconds", e.probe_seconds},
+      {"probe_light_nodes", e.probe_light_nodes},
+      {"probe_view_nodes", e.probe_view_nodes},
+      {"probe_rays", e.probe_rays},
+      {"threads", threads},
+      {"view_nodes", e.view_nodes},
+      {"light_nodes", e.light_nodes},
+      {"texels", settings.texels},
+      {"spp", settings.spp},
+      {"rays", e.rays},
+      {"light_field_bytes", e.light_field_bytes},
+      {"fixed_bytes", e.fixed_bytes},
+      {"max_bytes", e.max_bytes}};
+  std::printf("%s\n", report.dump(2).c_str());
 }
 
 // About 80 lines: read and check, bake, write; as each command reads.
@@ -89,10 +343,18 @@ void run_material(const MaterialArgs& args) {
     scene = std::make_unique<Scene>(io::load_scene(args.input, budget));
     int o = 0;
     if (!args.object.empty()) {
+      // A name, or failing that an index into the scene's objects.
       o = -1;
       for (size_t i = 0; i < scene->objects.size(); ++i)
         if (scene->objects[i].name == args.object) o = int(i);
-      if (o < 0) throw InputError("--object", "no object named '" + args.object + "'", args.input);
+      if (o < 0 && args.object.find_first_not_of("0123456789") == std::string::npos &&
+          args.object.size() < 9 && std::stoi(args.object) < int(scene->objects.size()))
+        o = std::stoi(args.object);
+      if (o < 0)
+        throw InputError("--object",
+                         "no object named '" + args.object + "' (nor an index below " +
+                             std::to_string(scene->objects.size()) + ")",
+                         args.input);
     }
     if (scene->objects.empty()) throw InputError("objects", "the scene has no cloth objects", args.input);
     try {
@@ -127,6 +389,10 @@ void run_material(const MaterialArgs& args) {
                                      " MiB (light fields and one view's table per thread), over "
                                      "the budget of " + std::to_string(budget >> 20) + " MiB");
 
+  if (args.estimate) {
+    print_estimate(settings, estimate_material(*volume, *shader, optics, settings, threads), threads);
+    return;
+  }
   // Step 2: the bake.
   io::ProgressBar bar("material", args.quiet);
   MaterialBakeStats stats;
@@ -202,12 +468,15 @@ void register_material_command(CLI::App& app, Action action) {
   cmd->add_option("--depth-scale", args->depth_scale,
                   "texture mm per world unit along the normal over along the surface "
                   "(default: the scene object's; 1 for a spec)");
-  cmd->add_option("--object", args->object, "the scene object whose cloth to bake (default: the first)");
+  cmd->add_option("--object", args->object, "the scene object whose cloth to bake, by name or index (default: the first)");
   cmd->add_option("--seed", args->seed, "seed of the texel samples")->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
+  cmd->add_flag("--estimate", args->estimate,
+                "check the inputs, time a probe of the work, print the estimate as JSON; write "
+                "nothing");
   cmd->callback([args, action] {
     if (action == Action::Run) run_material(*args);
   });
