@@ -19,16 +19,17 @@ import time
 import bpy
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
+from ..core import scene_export
 from ..core.defaults import folder_siblings
 from ..core.errors import ClothbakeError
 from ..core.scene import load_scene
 from . import prefs
 from .apply import apply_lookup
 from .props import read_cloth_file
-from .scene_export_bpy import cloth_objects, export_scene, scene_file_for_bake
+from .scene_export_bpy import build_model, cloth_objects, export_scene, scene_file_for_bake
 from .scene_import import import_scene, set_render_settings
 
-_PROGRESS = re.compile(r"^(?:bake|render)\s+(\d+)%")
+_PROGRESS = re.compile(r"^(?:bake|render|material)\s+(\d+)%")
 _ERROR_PREFIX = "clothbake: error: "
 
 
@@ -194,6 +195,18 @@ def _clean_after_kill(bake_dir, pid):
             os.replace(old, bake_dir)
 
 
+def kill_job(proc, out_dir):
+    """Ends a running bake (lookup or material) and removes what it left:
+    SIGTERM (its output is only ever written atomically), SIGKILL after 10 s."""
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+    _clean_after_kill(out_dir, proc.pid)
+
+
 def _bake_summary(bake_dir):
     try:
         with open(os.path.join(bake_dir, "manifest.json"), encoding="utf-8") as f:
@@ -215,69 +228,84 @@ def _reapply(op, scene, bake_dir):
                 op.report({"WARNING"}, f"{obj.name}: the new lookup was not applied: {e}")
 
 
-class CLOTHBAKE_OT_bake(bpy.types.Operator):
-    """Bake the scene's cloth into a lookup with the clothbake program (Esc cancels)"""
-    bl_idname = "clothbake.bake"
-    bl_label = "Bake"
+class _ProgramJob:
+    """The program run in the background for an operator (Bake, Bake
+    material): modal, progress from its stderr lines ("bake NN%", "material
+    NN%"), Esc kills it and removes what it left half-written; an estimate
+    first, and a confirmation dialog when it is over CONFIRM_SECONDS.
+    Synchronous in background mode and scripts. One job at a time, whichever
+    kind (the machine's cores are the job's).
 
-    _running = False  # one bake at a time
+    A subclass states `_kind` (the settings' prefix: bake_running,
+    bake_progress, bake_status; material_...), `_verb`, and implements
+    _command(context) -> (argv, output folder), _estimate(context) ->
+    seconds, _succeeded(scene, folder) -> status text, _dialog_lines."""
+    _running = False  # one job at a time: set on _ProgramJob itself
+    _kind = "bake"
+    _verb = "baking"
 
-    def _start_report(self, scene, bake_dir):
-        settings = scene.clothbake
-        settings.bake_running = True
-        settings.bake_progress = 0.0
-        settings.bake_status = f"baking into {bake_dir}"
+    def _set(self, scene, name, value):
+        setattr(scene.clothbake, f"{self._kind}_{name}", value)
 
-    def _finish(self, scene, code, stderr_lines, bake_dir):
-        settings = scene.clothbake
-        settings.bake_running = False
+    def _get(self, scene, name):
+        return getattr(scene.clothbake, f"{self._kind}_{name}")
+
+    def _start_report(self, scene, out_dir):
+        self._set(scene, "running", True)
+        self._set(scene, "progress", 0.0)
+        self._set(scene, "status", f"{self._verb} into {out_dir}")
+
+    def _finish(self, scene, code, stderr_lines, out_dir):
+        self._set(scene, "running", False)
         if code == 0:
-            settings.bake_progress = 1.0
-            settings.bake_status = _bake_summary(bake_dir)
-            self.report({"INFO"}, "clothbake " + settings.bake_status)
-            _reapply(self, scene, bake_dir)
-            return {"FINISHED"}
-        message = _program_error(stderr_lines, "bake", code)
-        settings.bake_status = "failed: " + message
+            self._set(scene, "progress", 1.0)
+            try:
+                return self._succeeded(scene, out_dir)
+            except ClothbakeError as e:  # baked, but not applied
+                self._set(scene, "status", f"baked into {out_dir}, not applied: {e}")
+                _report_error(self, e)
+                return {"CANCELLED"}
+        message = _program_error(stderr_lines, self._kind, code)
+        self._set(scene, "status", "failed: " + message)
         self.report({"ERROR"}, message)
         return {"CANCELLED"}
 
     def execute(self, context):
-        """Background mode and scripts: the bake runs to its end here. In
+        """Background mode and scripts: the program runs to its end here. In
         the UI (after invoke, or its confirmation), it starts in the
         background (modal)."""
-        if CLOTHBAKE_OT_bake._running:
+        if _ProgramJob._running:
             self.report({"ERROR"}, "a bake is running already")
             return {"CANCELLED"}
         if not bpy.app.background and context.window is not None:
             return self._start_modal(context)
         try:
-            args, bake_dir, _ = _bake_command(context)
+            args, out_dir = self._command(context)
         except ClothbakeError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        self._start_report(context.scene, bake_dir)
+        self._start_report(context.scene, out_dir)
         env = dict(os.environ, CLOTHBAKE_PROGRESS="lines")
         try:
             run = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                  stdin=subprocess.DEVNULL, text=True, env=env)
         except OSError as e:
-            context.scene.clothbake.bake_running = False
+            self._set(context.scene, "running", False)
             self.report({"ERROR"}, f"{args[0]}: cannot run the clothbake program: {e.strerror}")
             return {"CANCELLED"}
-        return self._finish(context.scene, run.returncode, run.stderr.splitlines(), bake_dir)
+        return self._finish(context.scene, run.returncode, run.stderr.splitlines(), out_dir)
 
     def invoke(self, context, event):
         if bpy.app.background:
             return self.execute(context)
-        if CLOTHBAKE_OT_bake._running:
+        if _ProgramJob._running:
             self.report({"ERROR"}, "a bake is running already")
             return {"CANCELLED"}
         # The estimate first (a second or two): a long bake asks before it
         # starts, with its seconds and bytes (issue 13: a first full bake ran
         # past 10 minutes with no word beforehand).
         try:
-            seconds, _ = estimate_bake(context)
+            seconds = self._estimate(context)
         except ClothbakeError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
@@ -286,15 +314,13 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         return self._start_modal(context)
 
     def draw(self, context):
-        settings = context.scene.clothbake
         col = self.layout.column()
-        col.label(text=f"This bake takes {settings.bake_estimate}.", icon="TIME")
-        col.label(text="Esc cancels it once started. Lower Texels or Samples, or tick")
-        col.label(text="Adaptive, for a quicker bake. Start it?")
+        for i, line in enumerate(self._dialog_lines(context)):
+            col.label(text=line, icon="TIME" if i == 0 else "NONE")
 
     def _start_modal(self, context):
         try:
-            args, self._bake_dir, _ = _bake_command(context)
+            args, self._out_dir = self._command(context)
             self._proc = subprocess.Popen(
                 args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
                 text=True, env=dict(os.environ, CLOTHBAKE_PROGRESS="lines"))
@@ -304,19 +330,19 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         except OSError as e:
             self.report({"ERROR"}, f"cannot run the clothbake program: {e.strerror}")
             return {"CANCELLED"}
-        CLOTHBAKE_OT_bake._running = True
+        _ProgramJob._running = True
         self._lines = []
         self._queue = queue.Queue()
         self._reader = threading.Thread(target=self._read, args=(self._proc.stderr, self._queue),
                                          daemon=True)
         self._reader.start()
         self._scene = context.scene  # the baked scene, whichever is shown later
-        self._start_report(self._scene, self._bake_dir)
+        self._start_report(self._scene, self._out_dir)
         wm = context.window_manager
         wm.progress_begin(0, 100)
         self._timer = wm.event_timer_add(0.2, window=context.window)
         wm.modal_handler_add(self)
-        context.workspace.status_text_set("clothbake: baking 0% (Esc to cancel)")
+        context.workspace.status_text_set(f"clothbake: {self._verb} 0% (Esc to cancel)")
         return {"RUNNING_MODAL"}
 
     @staticmethod
@@ -326,7 +352,6 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         out.put(None)
 
     def _drain(self, context):
-        settings = self._scene.clothbake
         done = False
         while True:
             try:
@@ -339,10 +364,10 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
             self._lines.append(line)
             m = _PROGRESS.match(line)
             if m:
-                settings.bake_progress = int(m.group(1)) / 100.0
-        percent = int(round(settings.bake_progress * 100))
+                self._set(self._scene, "progress", int(m.group(1)) / 100.0)
+        percent = int(round(self._get(self._scene, "progress") * 100))
         context.window_manager.progress_update(percent)
-        context.workspace.status_text_set(f"clothbake: baking {percent}% (Esc to cancel)")
+        context.workspace.status_text_set(f"clothbake: {self._verb} {percent}% (Esc to cancel)")
         return done
 
     def _end_modal(self, context):
@@ -350,24 +375,22 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         wm.event_timer_remove(self._timer)
         wm.progress_end()
         context.workspace.status_text_set(None)
-        CLOTHBAKE_OT_bake._running = False
+        _ProgramJob._running = False
         _redraw(context)
+
+    def _cancel(self, context):
+        """Esc: the program killed, what it left half-written removed."""
+        kill_job(self._proc, self._out_dir)
+        self._end_modal(context)
+        self._set(self._scene, "running", False)
+        self._set(self._scene, "status", f"cancelled; the previous {self._thing} (if any) is "
+                  "unchanged")
+        self.report({"WARNING"}, f"clothbake {self._kind} cancelled")
+        return {"CANCELLED"}
 
     def modal(self, context, event):
         if event.type == "ESC" and event.value == "PRESS":
-            self._proc.terminate()  # SIGTERM: the output is only ever written atomically
-            try:
-                self._proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                self._proc.wait()
-            _clean_after_kill(self._bake_dir, self._proc.pid)
-            self._end_modal(context)
-            settings = self._scene.clothbake
-            settings.bake_running = False
-            settings.bake_status = "cancelled; the previous lookup (if any) is unchanged"
-            self.report({"WARNING"}, "clothbake bake cancelled")
-            return {"CANCELLED"}
+            return self._cancel(context)
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
         reader_done = self._drain(context)
@@ -376,7 +399,35 @@ class CLOTHBAKE_OT_bake(bpy.types.Operator):
         if code is None or not reader_done:
             return {"RUNNING_MODAL"}
         self._end_modal(context)
-        return self._finish(self._scene, code, self._lines, self._bake_dir)
+        return self._finish(self._scene, code, self._lines, self._out_dir)
+
+
+class CLOTHBAKE_OT_bake(_ProgramJob, bpy.types.Operator):
+    """Bake the scene's cloth into a lookup with the clothbake program (Esc cancels)"""
+    bl_idname = "clothbake.bake"
+    bl_label = "Bake"
+    _kind = "bake"
+    _verb = "baking"
+    _thing = "lookup"
+
+    def _command(self, context):
+        args, bake_dir, _ = _bake_command(context)
+        return args, bake_dir
+
+    def _estimate(self, context):
+        return estimate_bake(context)[0]
+
+    def _succeeded(self, scene, bake_dir):
+        settings = scene.clothbake
+        settings.bake_status = _bake_summary(bake_dir)
+        self.report({"INFO"}, "clothbake " + settings.bake_status)
+        _reapply(self, scene, bake_dir)
+        return {"FINISHED"}
+
+    def _dialog_lines(self, context):
+        return [f"This bake takes {context.scene.clothbake.bake_estimate}.",
+                "Esc cancels it once started. Lower Texels or Samples, or tick",
+                "Adaptive, for a quicker bake. Start it?"]
 
 
 class CLOTHBAKE_OT_estimate(bpy.types.Operator):
@@ -435,6 +486,221 @@ class CLOTHBAKE_OT_apply(bpy.types.Operator):
             return {"CANCELLED"}
         self.report({"INFO"}, f"Applied the lookup to {', '.join(applied)}"
                     + (f" ({failed} failed)" if failed else ""))
+        return {"FINISHED"}
+
+
+# -- the cloth material ----------------------------------------------------------
+
+def _material_target(context):
+    """(object, index among the scene's cloth objects, as the export writes
+    them) of the cloth the material is baked from: the active object."""
+    obj = context.active_object
+    if obj is None or obj.type != "MESH":
+        raise ClothbakeError("make the cloth object active (a mesh with 'Cloth' ticked in its "
+                             "clothbake panel): the material is baked from its cloth")
+    if not obj.clothbake.is_cloth:
+        raise ClothbakeError(f"object '{obj.name}' is not a cloth: tick 'Cloth' in its clothbake "
+                             "panel (Object properties) and pick a weave; the material is baked "
+                             "from its cloth")
+    return obj, cloth_objects(context.scene).index(obj)
+
+
+def _material_scene_file(scene, folder):
+    """The scene file the material bake reads (the cloth object's optics):
+    the scene file while it still describes the Blender scene, else a fresh
+    export to FOLDER.scene/scene.json. The scene file setting is left as it
+    was (the material folder's default is named after it)."""
+    model = build_model(scene)
+    settings = scene.clothbake
+    current = os.path.abspath(bpy.path.abspath(settings.scene_path)) if settings.scene_path \
+        else ""
+    if current and scene_export.scene_matches_file(model, current):
+        return current
+    return scene_export.write_scene(model, os.path.join(folder + ".scene", "scene.json"))
+
+
+def _material_command(context):
+    """(argv, material folder) of the material bake. Raises ClothbakeError."""
+    settings = context.scene.clothbake
+    program = _program(context)
+    texels = settings.material_texels
+    if texels & (texels - 1):
+        raise ClothbakeError(f"must be a power of 2 (8, 16, 32, 64, ...), got {texels}", "",
+                             "material Texels")
+    _, index = _material_target(context)
+    folder = settings.material_folder()
+    if not folder:
+        raise ClothbakeError("set a material folder (or save the .blend file, or export the "
+                             "scene first)", "", "material folder")
+    scene_path = _material_scene_file(context.scene, folder)
+    if not settings.material_dir:
+        settings.material_dir = folder  # kept when the scene file changes
+    args = [program, "material", scene_path, "--object", str(index), "-o", folder,
+            "--texels", str(texels), "--directions", str(settings.material_directions),
+            "--light-directions", str(settings.material_light_directions),
+            "--spp", str(settings.material_spp), "--max-error", "%g" % settings.material_max_error,
+            "--threads", str(prefs.threads(context))]
+    return args, folder
+
+
+def _material_key(context):
+    """What a material estimate depends on: the settings, object and scene."""
+    s = context.scene.clothbake
+    obj = context.active_object
+    return json.dumps([s.scene_path, s.material_folder(), obj.name if obj else "",
+                       s.material_texels, s.material_directions, s.material_light_directions,
+                       s.material_spp, round(s.material_max_error, 6), prefs.threads(context)])
+
+
+def material_estimate_is_current(context):
+    s = context.scene.clothbake
+    return bool(s.material_estimate) and s.material_estimate_for == _material_key(context)
+
+
+def estimate_material(context):
+    """Runs `clothbake material ... --estimate` for the bake the panel would
+    start (the program times a probe of the real work and writes nothing).
+    Stores the summary in scene.clothbake.material_estimate and returns
+    (seconds, bytes of the table at full rank, an upper bound). Raises
+    ClothbakeError."""
+    args, _ = _material_command(context)
+    report = json.loads(_run(args + ["--estimate"], "material"))
+    seconds = float(report["seconds"])
+    size = int(report["max_bytes"])
+    settings = context.scene.clothbake
+    settings.material_estimate = f"about {_duration(seconds)}, up to " \
+                                 f"{max(1, round(size / 2**20))} MiB"
+    settings.material_estimate_for = _material_key(context)
+    return seconds, size
+
+
+def _material_targets(context):
+    objs = list(context.selected_objects)
+    active = context.active_object
+    if not objs and active is not None:
+        objs = [active]
+    return objs
+
+
+def apply_material_to(op, objs, folder, route):
+    """Puts the material in `folder` on every object of `objs`; returns the
+    names applied. Refuses (ClothbakeError per object, reported by the
+    caller) a non-mesh or a mesh without a UV map before changing anything."""
+    from .material_apply import apply_material, uv_map_name  # the material's node builder
+    if not objs:
+        raise ClothbakeError("select the meshes to put the material on (any mesh with a UV map)")
+    if not folder or not os.path.isfile(os.path.join(folder, "manifest.json")):
+        raise ClothbakeError(f"no material in {folder or 'the material folder'}: Bake material "
+                             "first, or set the material folder", "", "material folder")
+    refused = []
+    for obj in objs:
+        if obj.type != "MESH":
+            refused.append(ClothbakeError(
+                f"object '{obj.name}' is a {obj.type.lower()}, not a mesh; the material goes "
+                "on meshes with a UV map"))
+        elif uv_map_name(obj) is None:
+            refused.append(ClothbakeError(
+                f"object '{obj.name}': mesh has no UV map; add one (UV > Unwrap in Edit Mode) "
+                "so the weave has a place on it"))
+    if refused:
+        raise _Refused(refused)
+    applied = []
+    for obj in objs:
+        _, notes = apply_material(obj, folder, route=route)
+        applied.append(obj.name)
+        for note in notes:
+            op.report({"WARNING"}, f"{obj.name}: {note}")
+    return applied
+
+
+class _Refused(ClothbakeError):
+    """Several objects refused at once: one report each."""
+
+    def __init__(self, errors):
+        super().__init__("; ".join(str(e) for e in errors))
+        self.errors = errors
+
+
+def _report_error(op, e):
+    for err in getattr(e, "errors", [e]):
+        op.report({"ERROR"}, str(err))
+
+
+def _material_summary(folder):
+    try:
+        with open(os.path.join(folder, "manifest.json"), encoding="utf-8") as f:
+            m = json.load(f)
+        return f"baked: {m['texels']} texels, {m['directions']} view and " \
+               f"{m['light_directions']} light directions, rank up to {m['max_rank']}: {folder}"
+    except (OSError, ValueError, KeyError, TypeError):
+        return f"baked: {folder}"
+
+
+class CLOTHBAKE_OT_bake_material(_ProgramJob, bpy.types.Operator):
+    """Bake the active cloth object's cloth into a material (every view, light and distance) with the clothbake program, then apply it to the selected meshes (Esc cancels)"""
+    bl_idname = "clothbake.bake_material"
+    bl_label = "Bake material"
+    _kind = "material"
+    _verb = "baking material"
+    _thing = "material"
+
+    def _command(self, context):
+        return _material_command(context)
+
+    def _estimate(self, context):
+        return estimate_material(context)[0]
+
+    def _succeeded(self, scene, folder):
+        settings = scene.clothbake
+        settings.material_status = _material_summary(folder)
+        objs = [o for o in bpy.context.selected_objects if o.name in scene.objects]
+        if not objs and bpy.context.active_object is not None:
+            objs = [bpy.context.active_object]
+        applied = apply_material_to(self, objs, folder, settings.material_route)
+        self.report({"INFO"}, f"clothbake material {settings.material_status}; applied to "
+                    f"{', '.join(applied)}")
+        return {"FINISHED"}
+
+    def _dialog_lines(self, context):
+        return [f"This material bake takes {context.scene.clothbake.material_estimate}.",
+                "Esc cancels it once started. Lower Texels, View or Light",
+                "directions, or Samples, for a quicker bake. Start it?"]
+
+
+class CLOTHBAKE_OT_material_estimate(bpy.types.Operator):
+    """Estimate the seconds and size of the material bake these settings would start (the program times a small probe of the real work and writes nothing)"""
+    bl_idname = "clothbake.material_estimate"
+    bl_label = "Estimate"
+
+    def execute(self, context):
+        try:
+            estimate_material(context)
+        except ClothbakeError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        self.report({"INFO"}, "clothbake material: " + context.scene.clothbake.material_estimate)
+        return {"FINISHED"}
+
+
+class CLOTHBAKE_OT_apply_material(bpy.types.Operator):
+    """Put the baked cloth material on the selected meshes (any mesh with a UV map), lit live by the scene's lights"""
+    bl_idname = "clothbake.apply_material"
+    bl_label = "Apply material"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        settings = context.scene.clothbake
+        try:
+            applied = apply_material_to(self, _material_targets(context),
+                                        settings.material_folder(), settings.material_route)
+        except ClothbakeError as e:
+            _report_error(self, e)
+            return {"CANCELLED"}
+        except ImportError as e:
+            self.report({"ERROR"}, f"this add-on cannot build materials here: {e}")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Applied the cloth material ({settings.material_route}) to "
+                    f"{', '.join(applied)}")
         return {"FINISHED"}
 
 
@@ -581,4 +847,5 @@ class CLOTHBAKE_OT_denoising_off(bpy.types.Operator):
 
 CLASSES = (CLOTHBAKE_OT_import_scene, CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_bake,
            CLOTHBAKE_OT_estimate, CLOTHBAKE_OT_apply, CLOTHBAKE_OT_compare,
-           CLOTHBAKE_OT_denoising_off)
+           CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_bake_material,
+           CLOTHBAKE_OT_material_estimate, CLOTHBAKE_OT_apply_material)

@@ -3,10 +3,12 @@ Import / Export menu entries."""
 import bpy
 
 from ..core.cloth_fields import DRAFT
-from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_compare,
+from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_apply_material, CLOTHBAKE_OT_bake,
+                        CLOTHBAKE_OT_bake_material, CLOTHBAKE_OT_compare,
                         CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_estimate,
-                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene, denoiser_missing,
-                        estimate_is_current)
+                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene,
+                        CLOTHBAKE_OT_material_estimate, denoiser_missing, estimate_is_current,
+                        material_estimate_is_current)
 
 
 class _ObjectPanel:
@@ -140,6 +142,46 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
             layout.label(text="Compare: " + settings.compare_status)
 
 
+class CLOTHBAKE_PT_material(_ObjectPanel, bpy.types.Panel):
+    """The cloth material: baked once from the active cloth object's cloth
+    (every view, light and distance), put on any mesh with a UV map."""
+    bl_label = "Material"
+    bl_parent_id = "CLOTHBAKE_PT_object"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.clothbake
+        col = layout.column()
+        col.use_property_split = True
+        col.use_property_decorate = False
+        col.prop(settings, "material_dir")
+        col.prop(settings, "material_texels")
+        col.prop(settings, "material_directions")
+        col.prop(settings, "material_light_directions")
+        col.prop(settings, "material_spp")
+        col.prop(settings, "material_max_error")
+        col.prop(settings, "material_route")
+        row = col.row(align=True)
+        if material_estimate_is_current(context):
+            row.label(text=settings.material_estimate, icon="TIME")
+            row.operator(CLOTHBAKE_OT_material_estimate.bl_idname, text="", icon="FILE_REFRESH")
+        else:
+            row.operator(CLOTHBAKE_OT_material_estimate.bl_idname, text="Estimate time and size",
+                         icon="TIME")
+        row = layout.row(align=True)
+        row.scale_y = 1.4
+        sub = row.row(align=True)
+        running = CLOTHBAKE_OT_bake._running  # any job of the program, not the saved flag
+        sub.enabled = not running
+        sub.operator(CLOTHBAKE_OT_bake_material.bl_idname, icon="RENDER_STILL")
+        row.operator(CLOTHBAKE_OT_apply_material.bl_idname, icon="MATERIAL")
+        if running and settings.material_running:
+            layout.prop(settings, "material_progress", text="Baking material (Esc cancels)",
+                        slider=True)
+        if settings.material_status:
+            layout.label(text="Material: " + settings.material_status)
+
+
 class CLOTHBAKE_PT_reference(_ObjectPanel, bpy.types.Panel):
     bl_label = "Reference render settings"
     bl_parent_id = "CLOTHBAKE_PT_object"
@@ -163,7 +205,8 @@ def _menu_export(self, context):
     self.layout.operator(CLOTHBAKE_OT_export_scene.bl_idname, text="clothbake scene (.json)")
 
 
-CLASSES = (CLOTHBAKE_PT_object, CLOTHBAKE_PT_cloth, CLOTHBAKE_PT_bake, CLOTHBAKE_PT_reference)
+CLASSES = (CLOTHBAKE_PT_object, CLOTHBAKE_PT_cloth, CLOTHBAKE_PT_bake, CLOTHBAKE_PT_material,
+           CLOTHBAKE_PT_reference)
 
 
 def register_extra():

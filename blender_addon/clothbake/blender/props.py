@@ -16,8 +16,10 @@ import bpy
 
 from ..core import cloth_fields
 from ..core.errors import ClothbakeError
-from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, RENDER_DEFAULTS,
-                             TEXELS_PER_PIXEL_MAX, TEXELS_RANGE)
+from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, MATERIAL_DEFAULTS,
+                             MATERIAL_DIRECTIONS_RANGE, MATERIAL_ERROR_RANGE, MATERIAL_SPP_RANGE,
+                             MATERIAL_TEXELS_RANGE, RENDER_DEFAULTS, TEXELS_PER_PIXEL_MAX,
+                             TEXELS_RANGE)
 from ..core.scene_export import FIBER_MODELS, SHADINGS, TRANSMITTANCES
 
 _loading = False  # true while fields are filled from a spec: not an edit
@@ -292,6 +294,47 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
     bake_estimate: bpy.props.StringProperty(name="Estimate")
     bake_estimate_for: bpy.props.StringProperty(options={"HIDDEN"})
     compare_status: bpy.props.StringProperty(name="Last comparison")
+    # The cloth material (docs/material-format.md): one weave repeat for every
+    # view, light and distance, baked from the active cloth object's cloth and
+    # applied to any mesh with a UV map. Defaults: the program's.
+    material_dir: bpy.props.StringProperty(
+        name="Material folder", subtype="DIR_PATH",
+        description="Material folder Bake material writes and Apply material reads (empty: "
+                    "SCENE_material beside the scene file, else BLEND_material beside the "
+                    ".blend file)")
+    material_texels: bpy.props.IntProperty(
+        name="Texels", default=MATERIAL_DEFAULTS["texels"], min=MATERIAL_TEXELS_RANGE[0],
+        max=MATERIAL_TEXELS_RANGE[1],
+        description="Texels per side of one weave repeat (a power of 2)")
+    material_directions: bpy.props.IntProperty(
+        name="View directions", default=MATERIAL_DEFAULTS["directions"],
+        min=MATERIAL_DIRECTIONS_RANGE[0], max=MATERIAL_DIRECTIONS_RANGE[1],
+        description="View nodes per side of each hemisphere's grid")
+    material_light_directions: bpy.props.IntProperty(
+        name="Light directions", default=MATERIAL_DEFAULTS["light_directions"],
+        min=MATERIAL_DIRECTIONS_RANGE[0], max=MATERIAL_DIRECTIONS_RANGE[1],
+        description="Light nodes per side of each hemisphere's grid")
+    material_spp: bpy.props.IntProperty(
+        name="Samples per texel", default=MATERIAL_DEFAULTS["spp"], min=MATERIAL_SPP_RANGE[0],
+        max=MATERIAL_SPP_RANGE[1], description="Jittered marches per texel and view direction")
+    material_max_error: bpy.props.FloatProperty(
+        name="Max error", default=MATERIAL_DEFAULTS["max_error"], min=MATERIAL_ERROR_RANGE[0],
+        max=MATERIAL_ERROR_RANGE[1], precision=3, step=1,
+        description="Relative error the compression may leave per view direction (0 = exact)")
+    material_route: bpy.props.EnumProperty(
+        name="Route", default="exact",
+        items=[("exact", "Exact", "The reference renderer's sum: emission and transparency, "
+                "lit by the scene's suns and point lights through drivers (no shadows from "
+                "other objects)"),
+               ("cycles-lit", "Cycles-lit", "Lights in front through a Diffuse closure, so "
+                "Cycles or Eevee add shadows from other objects")],
+        description="How Apply material builds the material's nodes")
+    material_running: bpy.props.BoolProperty(default=False)
+    material_progress: bpy.props.FloatProperty(default=0.0, min=0.0, max=1.0,
+                                               subtype="FACTOR")
+    material_status: bpy.props.StringProperty(name="Last material bake")
+    material_estimate: bpy.props.StringProperty(name="Material estimate")
+    material_estimate_for: bpy.props.StringProperty(options={"HIDDEN"})
 
     _RENDER_KEYS = {"spp": "render_spp", "step_cells": "step_cells",
                     "fiber_model": "fiber_model", "fiber_samples": "fiber_samples",
@@ -315,6 +358,17 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
         if self.scene_path:
             return os.path.splitext(os.path.abspath(bpy.path.abspath(self.scene_path)))[0] + \
                 "_bake"
+        return ""
+
+    def material_folder(self):
+        """The absolute material folder: material_dir, else SCENE_material
+        beside the scene file, else BLEND_material beside the saved .blend
+        ("" when none is set)."""
+        if self.material_dir:
+            return os.path.abspath(bpy.path.abspath(self.material_dir)).rstrip(os.sep)
+        base = self.scene_path and bpy.path.abspath(self.scene_path) or bpy.data.filepath
+        if base:
+            return os.path.splitext(os.path.abspath(base))[0] + "_material"
         return ""
 
 

@@ -1,8 +1,9 @@
 """What the add-on shares with the clothbake program, stated once on this
 side: the reference renderer's default settings, the ranges of the bake
-settings, and the names of a folder output's temporary siblings. Each is
-stated once on the C++ side too (baker/core/scene/scene.h RenderSettings,
-baker/core/bake/bake_settings.h, baker/io/atomic_file.h), and
+settings, the material bake's defaults and ranges, and the names of a
+folder output's temporary siblings. Each is stated once on the C++ side too
+(baker/core/scene/scene.h RenderSettings, baker/core/bake/bake_settings.h,
+baker/core/material/material_settings.h, baker/io/atomic_file.h), and
 tests/addon/test_defaults.py reads those headers and holds these to them.
 """
 
@@ -16,6 +17,16 @@ DIRECTIONS_RANGE = (2, 64)        # K
 TEXELS_RANGE = (1, 4096)          # R, texels per quad side
 BAKE_SPP_RANGE = (1, 4096)        # samples per texel
 TEXELS_PER_PIXEL_MAX = 64.0       # adaptive, in (0, this]
+
+# The material bake's settings (baker/core/material/material_settings.h,
+# MaterialSettings and its ranges), by the add-on's names; texels is a
+# power of 2.
+MATERIAL_DEFAULTS = {"texels": 32, "directions": 16, "light_directions": 10, "spp": 2,
+                     "max_error": 0.05}
+MATERIAL_TEXELS_RANGE = (1, 1024)
+MATERIAL_DIRECTIONS_RANGE = (2, 32)   # view and light directions
+MATERIAL_SPP_RANGE = (1, 1024)
+MATERIAL_ERROR_RANGE = (0.0, 1.0)
 
 # A folder output (a bake) is written as NAME.tmp-PID and the folder it
 # replaces set aside as NAME.old-PID (baker/io/atomic_file.h).
