@@ -29,8 +29,14 @@ def material(tmp_path_factory, request):
 
 
 def read(path):
-    buf = oiio.ImageBuf(path)
-    return buf.get_pixels(oiio.FLOAT), list(buf.spec().channelnames)
+    return mp._read_exr(path, "image")
+
+
+def test_wide_ranks_wrap_into_bands(material, monkeypatch):
+    info = mp.read_material(material)
+    monkeypatch.setattr(mp, "MAX_WIDTH", 2 * info.k * (info.texels + 2))
+    w, h, per_row, band = mp.coefficient_layout(info, 5)
+    assert (per_row, w, h) == (2, 2 * info.k * (info.texels + 2), 3 * band)
 
 
 def test_level_offsets_are_the_running_sum():
@@ -43,8 +49,11 @@ def test_level_offsets_are_the_running_sum():
             running += 2 * k * (max(1, texels >> level) + 2)
 
 
-def test_every_texel_at_the_node_trees_address(material):
+@pytest.mark.parametrize("one_per_band", [False, True])
+def test_every_texel_at_the_node_trees_address(material, monkeypatch, one_per_band):
     info = mp.read_material(material)
+    if one_per_band:
+        monkeypatch.setattr(mp, "MAX_WIDTH", info.k * (info.texels + 2))
     pack = mp.pack_material(info, rank=64, dense=5)
     assert pack.rank == max(1, info.max_rank)
     coeff, _ = read(pack.coefficients)
@@ -62,7 +71,8 @@ def test_every_texel_at_the_node_trees_address(material):
             for comp in range(pack.rank):
                 tile = np.stack([px[row * s:(row + 1) * s, col * s:(col + 1) * s,
                                     names.index(f"k{comp:04d}.{c}")] for c in "RGB"], -1)
-                x0, yb = (comp * k + col) * p, y0 + row * p
+                x0 = ((comp % pack.per_row) * k + col) * p
+                yb = (comp // pack.per_row) * pack.band + y0 + row * p
                 got = coeff[yb:yb + p, x0:x0 + p]
                 # inside: texel (tx, ty) at (1 + tx, 1 + ty); gutter: periodic
                 want = np.pad(np.concatenate([tile, tile_a[..., None]], -1),

@@ -48,7 +48,7 @@ import bpy
 import numpy as np
 
 from ..core.errors import ClothbakeError
-from ..core.material_pack import pack_material, read_material
+from ..core.material_pack import HORIZON, pack_material, read_material
 from .graph import Graph
 
 ROUTES = ("exact", "cycles-lit")
@@ -187,6 +187,27 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
                 g.vmath("DOT_PRODUCT", d, bitangent, column=column),
                 g.vmath("DOT_PRODUCT", d, normal, column=column))
 
+    def horizon(u, v, column):
+        """The horizon warp of the material's light map (material_pack):
+        the diamond's radius rho goes to 1 - sqrt(1 - rho)."""
+        a = g.math("MULTIPLY_ADD", u, 2.0, -1.0, column=column)
+        b = g.math("MULTIPLY_ADD", v, 2.0, -1.0, column=column)
+        px = g.math("MULTIPLY", g.math("ADD", a, b, column=column), 0.5, column=column)
+        py = g.math("MULTIPLY", g.math("SUBTRACT", a, b, column=column), 0.5, column=column)
+        rho = g.math("ADD", g.math("ABSOLUTE", px, column=column),
+                     g.math("ABSOLUTE", py, column=column), column=column)
+        warped = g.math("SUBTRACT", 1.0, g.math("SQRT", g.math("SUBTRACT", 1.0, g.math(
+            "MINIMUM", rho, 1.0, column=column), column=column, clamp=True), column=column),
+            column=column)
+        scale = g.math("DIVIDE", warped, g.math("MAXIMUM", rho, 1e-12, column=column),
+                       column=column + 1)
+        px = g.math("MULTIPLY", px, scale, column=column + 1)
+        py = g.math("MULTIPLY", py, scale, column=column + 1)
+        return (g.math("MULTIPLY_ADD", g.math("ADD", px, py, column=column + 1), 0.5, 0.5,
+                       column=column + 1, clamp=True),
+                g.math("MULTIPLY_ADD", g.math("SUBTRACT", px, py, column=column + 1), 0.5, 0.5,
+                       column=column + 1, clamp=True))
+
     def hemi(x, y, z, column):
         l1 = g.math("MAXIMUM", g.math("ADD", g.math("ADD", g.math("ABSOLUTE", x, column=column),
                                                     g.math("ABSOLUTE", y, column=column),
@@ -268,8 +289,9 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
     py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch, ty, column=11), y_level, column=11)
     uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
                     g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
-    step = g.combine(g.math("MULTIPLY", pitch, float(K) / pack.width, column=12), 0.0, 0.0,
-                     column=12)
+    # component k at + (k % per_row) K P_L across and (k // per_row) bands up
+    step = g.combine(g.math("MULTIPLY", pitch, float(K) / pack.width, column=12),
+                     float(pack.band) / pack.height, 0.0, column=12)
 
     # 5. Lights: direction, irradiance, light factors.
     lit = route == "cycles-lit"
@@ -292,6 +314,8 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
         lx, ly, lz = local(direction, col + 1)
         light_side = g.math("LESS_THAN", lz, 0.0, column=col + 1)
         lu, lv = hemi(lx, ly, lz, col + 1)
+        if info.light_map == HORIZON:
+            lu, lv = horizon(lu, lv, col + 2)
         la = pick(lu, M, xi6, col + 3)
         lb = pick(lv, M, xi7, col + 3)
         # tile of (view_side, i, j), group 0, light side; pixel centre of (a, b)
@@ -336,7 +360,7 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
         if kk:
             n = g.node("ShaderNodeVectorMath", col, operation="MULTIPLY_ADD")
             g.feed(n.inputs[0], step)
-            g.feed(n.inputs[1], (float(kk),) * 3)
+            g.feed(n.inputs[1], (float(kk % pack.per_row), float(kk // pack.per_row), 0.0))
             g.feed(n.inputs[2], uv0)
             where = n.outputs["Vector"]
         tex = g.node("ShaderNodeTexImage", col + 1, image=coeff_image, interpolation="Closest",

@@ -8,10 +8,12 @@ addresses a few Math nodes compute (clothbake.blender.material_apply):
 
 coefficients (`coefficients.exr`, half RGBA):
     level L (S = max(1, texels >> L) texels a side, tile pitch P = S + 2)
-    occupies rows [Y_L, Y_L + 2 K P) from the bottom, with
+    occupies rows [Y_L, Y_L + 2 K P) of a band, with
     Y_L = 2 K (2 S0 (1 - 2^-L) + 2 L) (S0 = texels; exact, as every level
-    halves S until S = 1). View node (side, i, j), component k: the tile
-    whose bottom-left pixel is ((k K + i) P, Y_L + (side K + j) P). Texel
+    halves S until S = 1). Component k lies in band b = k // per_row (band
+    height Y_levels), column block c = k % per_row. View node (side, i, j),
+    component k: the tile whose bottom-left pixel is
+    ((c K + i) P, b Y_levels + Y_L + (side K + j) P). Texel
     (tx, ty) is pixel (1 + tx, 1 + ty) of the tile; the one-pixel gutter
     holds the periodic neighbours (the weave repeats), so a lookup at
     tile + 1 + floor(t - 0.5 + xi) for xi in [0, 1) is, on average over xi,
@@ -20,9 +22,10 @@ coefficients (`coefficients.exr`, half RGBA):
 
 light factors (`light_factors.exr`, float RGBA):
     F(v, n, k) resampled from the material's light nodes (Catmull-Rom, as
-    clothbake's lookup blends them) onto a plain hemi-octahedral grid of
-    M x M directions per side, so that a nearest-or-bilinear read in nodes
-    stands in for the 4 x 4 Catmull-Rom clothbake evaluates. Tile of view
+    clothbake's lookup blends them) onto a grid of M x M directions per
+    side on the material's own light map (plain hemi-octahedral, or drawn
+    toward the horizon), so that a bilinear read in nodes stands in for the
+    4 x 4 Catmull-Rom clothbake evaluates. Tile of view
     node (side_v, i, j), component group g (components 4g .. 4g+3 in RGBA),
     light side sl: bottom-left pixel (((g K + i) 2 + sl) Q, (side_v K + j) Q),
     Q = M + 2; direction grid node (a, b) is pixel (1 + a, 1 + b) of it.
@@ -46,10 +49,12 @@ import numpy as np
 from .errors import ClothbakeError
 
 FORMAT = "clothbake-material"
-PACK_VERSION = 2
-DEFAULT_RANK = 16       # components Blender evaluates (node count grows with it)
-DEFAULT_DENSE = 24      # light directions per side of the resampled grid
-GPU_MAX_SIDE = 16384    # largest texture side Eevee (Mesa llvmpipe) accepts
+PACK_VERSION = 4
+DEFAULT_RANK = 24       # components Blender evaluates (node count grows with it)
+DEFAULT_DENSE = 32      # light directions per side of the resampled grid
+MAX_WIDTH = 8192        # widest coefficient image: Blender 3.4's Cycles read images
+                        # 15232 and 16320 pixels wide as garbage, 13056 right
+MAX_SIDE = 16384        # largest texture side Eevee (Mesa llvmpipe) accepts
 
 HORIZON = "hemi-octahedral-horizon"
 SQUARE = "hemi-octahedral"
@@ -213,11 +218,26 @@ def light_node_weights(dirs, kl, light_map, side=None):
     return out
 
 
-def dense_light_directions(m):
+def _warp_from_grid(u, v):
+    """The inverse of _warp_to_grid: a node's (u, v) on the horizon map to
+    the plain square's (rho = 1 - (1 - rho')^2)."""
+    a, b = 2 * u - 1, 2 * v - 1
+    px, py = 0.5 * (a + b), 0.5 * (a - b)
+    rho = np.abs(px) + np.abs(py)
+    r = np.minimum(rho, 1.0)
+    scale = np.where(rho > 0, (1 - (1 - r) ** 2) / np.where(rho > 0, rho, 1), 1.0)
+    px, py = px * scale, py * scale
+    return (px + py + 1) * 0.5, (px - py + 1) * 0.5
+
+
+def dense_light_directions(m, light_map=SQUARE):
     """Directions (2 m^2, 3) of the resampled grid, index (sl m + b) m + a,
-    and their sides."""
+    and their sides. The grid is laid on the material's own light map, so a
+    horizon-drawn material keeps its dense rows at grazing light."""
     g = np.arange(m) / (m - 1)
     u, v = np.meshgrid(g, g)             # v rows (b), u columns (a)
+    if light_map == HORIZON:
+        u, v = _warp_from_grid(u, v)
     d = hemi_oct_decode(u, v).reshape(-1, 3)
     back = d.copy()
     back[:, 2] = -back[:, 2]
@@ -235,6 +255,8 @@ class Pack:
     dense: int            # M
     width: int            # coefficients.exr
     height: int
+    per_row: int          # components side by side in one band
+    band: int             # rows of one band (all levels)
     light_width: int
     light_height: int
     groups: int           # ceil(rank / 4)
@@ -245,21 +267,33 @@ def level_offset(texels, k, level):
     return 2 * k * (2 * texels * (1 - 0.5 ** level) + 2 * level)
 
 
-def coefficient_size(info, rank):
-    width = rank * info.k * (info.texels + 2)
-    height = int(round(level_offset(info.texels, info.k, info.levels)))
-    return width, height
+def coefficient_layout(info, rank):
+    """(width, height, per_row, band): components sit per_row side by side
+    in bands of `band` rows (every level), component c in band c // per_row
+    at column block c % per_row, so no image is wider than MAX_WIDTH."""
+    block = info.k * (info.texels + 2)
+    per_row = max(1, min(rank, MAX_WIDTH // block))
+    band = int(round(level_offset(info.texels, info.k, info.levels)))
+    bands = (rank + per_row - 1) // per_row
+    return per_row * block, bands * band, per_row, band
 
 
 def _read_exr(path, what):
+    """All channels as float (H, W, C) and their names. Through ImageInput,
+    not ImageBuf: ImageBuf's shared cache would hand back a file's old
+    pixels after a re-bake in the same Blender session."""
     import OpenImageIO as oiio  # Debian's python3-openimageio (BLENDER_NOTES.md)
-    buf = oiio.ImageBuf(path)
-    if buf.has_error:
-        raise ClothbakeError(f"cannot read the {what}: {buf.geterror()}", path)
-    pixels = buf.get_pixels(oiio.FLOAT)
-    if pixels is None or buf.has_error:
-        raise ClothbakeError(f"cannot read the {what}: {buf.geterror()}", path)
-    return pixels, list(buf.spec().channelnames)
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise ClothbakeError(f"cannot read the {what}: {oiio.geterror()}", path)
+    try:
+        spec = inp.spec()
+        pixels = inp.read_image(0, 0, 0, spec.nchannels, oiio.FLOAT)
+        if pixels is None:
+            raise ClothbakeError(f"cannot read the {what}: {inp.geterror()}", path)
+        return pixels.reshape(spec.height, spec.width, spec.nchannels), list(spec.channelnames)
+    finally:
+        inp.close()
 
 
 def _write_exr(path, rgba, kind):
@@ -288,7 +322,9 @@ def _channel(names, name, path):
 
 def pack_key(info, rank, dense):
     text = json.dumps(info.manifest, sort_keys=True)
-    return hashlib.sha256(f"{PACK_VERSION} {rank} {dense} {text}".encode()).hexdigest()[:16]
+    layout = coefficient_layout(info, rank)
+    return hashlib.sha256(f"{PACK_VERSION} {rank} {dense} {layout} {text}".encode()
+                          ).hexdigest()[:16]
 
 
 def blender_rank(info, rank=None):
@@ -297,7 +333,9 @@ def blender_rank(info, rank=None):
     want = DEFAULT_RANK if rank is None else int(rank)
     if want < 1:
         raise ClothbakeError("must be at least 1", "", "rank")
-    fits = max(1, GPU_MAX_SIDE // (info.k * (info.texels + 2)))
+    band = level_offset(info.texels, info.k, info.levels)
+    per_row = max(1, MAX_WIDTH // (info.k * (info.texels + 2)))
+    fits = max(1, int(MAX_SIDE // band) * per_row)
     return max(1, min(want, max(1, info.max_rank), fits))
 
 
@@ -310,12 +348,12 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     key = pack_key(info, rank, dense)
     groups = (rank + 3) // 4
     k, s0 = info.k, info.texels
-    width, height = coefficient_size(info, rank)
+    width, height, per_row, band = coefficient_layout(info, rank)
     q = dense + 2
     lw, lh = groups * k * 2 * q, 2 * k * q
     pack = Pack(folder, os.path.join(folder, "coefficients.exr"),
-                os.path.join(folder, "light_factors.exr"), rank, dense, width, height, lw, lh,
-                groups)
+                os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
+                per_row, band, lw, lh, groups)
     try:
         with open(os.path.join(folder, "pack.json")) as f:
             if json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
@@ -354,8 +392,8 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
             padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
             for row in range(2 * k):
                 for col in range(k):
-                    x = (comp * k + col) * p
-                    y = y0 + row * p
+                    x = ((comp % per_row) * k + col) * p
+                    y = (comp // per_row) * band + y0 + row * p
                     coeff[y:y + p, x:x + p] = padded[row, col]
     # The tile's row ty is texel y = ty (y up in Blender's image space), so
     # the array is stored bottom-up as it is: nothing to flip per tile.
@@ -369,7 +407,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     f = np.zeros((views, nl, groups * 4), np.float32)
     for comp in range(min(rank, info.max_rank)):
         f[..., comp] = lf[..., _channel(names, f"k{comp:04d}", path)]
-    dirs, sides = dense_light_directions(dense)
+    dirs, sides = dense_light_directions(dense, info.light_map)
     weights = light_node_weights(dirs, info.kl, info.light_map, sides)
     dense_f = np.einsum("dn,vnc->vdc", weights, f.astype(np.float64)).astype(np.float32)
     dense_f = dense_f.reshape(2, k, k, 2, dense, dense, groups, 4)  # sv, j, i, sl, b, a, g, c
@@ -394,7 +432,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
         _write_exr(os.path.join(tmp, "light_factors.exr"), lights, "float")
         with open(os.path.join(tmp, "pack.json"), "w") as fh:
             json.dump({"key": key, "rank": rank, "dense": dense, "width": width,
-                       "height": height, "light_width": lw, "light_height": lh,
+                       "height": height, "per_row": per_row, "band": band, "light_width": lw, "light_height": lh,
                        "groups": groups}, fh, indent=2)
         old = f"{folder}.old-{os.getpid()}"
         if os.path.isdir(folder):
