@@ -13,7 +13,13 @@ step by step from a timer so the window draws between steps:
      Blender has no denoiser; its button pressed;
   5. F12 (render.render invoked as the key does), waited for, saved;
   6. Compare;
-  7. a full bake at the old defaults: Bake asks first.
+  7. the cloth material (issue 16): a UV sphere added (triangles at its
+     poles), the plane's weave set to the Twill 2/1 preset, Bake material
+     pressed with small settings (modal, waited for) and so applied to the
+     selected plane and sphere; Apply material again; the 3D view switched
+     to Material Preview; then the light moved (the material's drivers
+     follow it). Screenshots material_NN_*.png;
+  8. a full bake at the old defaults: Bake asks first.
 
 A screenshot of the window after each step goes to OUT_DIR/NN_step.png.
 Each step's outcome is checked; the shell script (ui_new_user.sh) then
@@ -191,6 +197,98 @@ def long_bake_asks():
           f"7. a long bake ({settings.bake_estimate}) asks first and has not started")
 
 
+def shaders_compiled():
+    """Eevee compiles the material's shaders in the background after Material
+    Preview is switched on ("Compiling Shaders" in the view): waits 20 s."""
+    state.setdefault("wait_start", time.time())
+    if time.time() - state["wait_start"] < 20:
+        return False
+    del state["wait_start"]
+    return True
+
+
+def material_setup():
+    scene = bpy.context.scene
+    plane = next(o for o in scene.objects if o.type == "MESH" and o.clothbake.is_cloth)
+    in_view3d(bpy.ops.mesh.primitive_uv_sphere_add, radius=0.6, location=(1.6, 0.0, 0.6))
+    sphere = bpy.context.view_layer.objects.active
+    sphere.name = "Sphere"
+    tris = sum(1 for p in sphere.data.polygons if len(p.vertices) == 3)
+    check(tris > 0 and sphere.data.uv_layers, f"8. a UV sphere with {tris} triangles")
+    plane.clothbake.weave = "twill_2_1"
+    settings = scene.clothbake
+    settings.material_dir = os.path.join(WORK, "material")
+    settings.material_texels, settings.material_directions = 16, 6
+    settings.material_light_directions, settings.material_spp = 6, 1
+    for obj in scene.objects:
+        obj.select_set(obj in (plane, sphere))
+    bpy.context.view_layer.objects.active = plane
+    _, props = window_area("PROPERTIES")
+    props.spaces.active.context = "OBJECT"
+
+
+def material_estimate():
+    result = in_properties(bpy.ops.clothbake.material_estimate)
+    text = bpy.context.scene.clothbake.material_estimate
+    check(result == {"FINISHED"} and text.startswith("about ") and
+          not os.path.exists(os.path.join(WORK, "material")),
+          f"8. material Estimate: {text}, nothing written")
+
+
+def start_material():
+    result = in_properties(bpy.ops.clothbake.bake_material, "INVOKE_DEFAULT")
+    check(result == {"RUNNING_MODAL"}, f"8. Bake material runs in the background ({result})")
+
+
+def material_done():
+    return not bpy.context.scene.clothbake.material_running
+
+
+def material_baked():
+    import json
+    settings = bpy.context.scene.clothbake
+    folder = os.path.join(WORK, "material")
+    manifest = os.path.join(folder, "manifest.json")
+    fmt = json.load(open(manifest))["format"] if os.path.isfile(manifest) else None
+    check(fmt == "clothbake-material" and settings.material_status.startswith("baked"),
+          f"8. Bake material finished: {settings.material_status}")
+    objs = [o for o in bpy.context.scene.objects if o.select_get()]
+    check(len(objs) == 2 and all(o.active_material is not None and
+                                 o.active_material.get("clothbake_material") == folder
+                                 for o in objs),
+          "8. the material is on the plane and the sphere")
+
+
+def apply_material():
+    check(in_properties(bpy.ops.clothbake.apply_material) == {"FINISHED"}, "8. Apply material")
+
+
+def material_preview():
+    win, area = window_area("VIEW_3D")
+    area.spaces.active.shading.type = "MATERIAL"
+    with bpy.context.temp_override(window=win, area=area, region=region(area)):
+        bpy.ops.view3d.view_selected()
+    check(area.spaces.active.shading.type == "MATERIAL", "8. the 3D view in Material Preview")
+
+
+def move_light():
+    light = bpy.data.objects.get("Light")
+    check(light is not None, "8. the default scene's light is there to move")
+    if light is not None:
+        state["light_at"] = tuple(light.location)
+        light.location = (-3.0, -4.0, 5.0)  # still above the plane, from the other side
+
+
+def restore_scene():
+    """The plane's weave back to plain and the light back: step 8's estimate
+    then finds the scene of the lookup bake unchanged (no re-export), and the
+    shell script renders that bake from its scene file."""
+    plane = next(o for o in bpy.context.scene.objects if o.type == "MESH" and o.clothbake.is_cloth)
+    plane.clothbake.weave = "plain"
+    if "light_at" in state:
+        bpy.data.objects["Light"].location = state["light_at"]
+
+
 # The steps; a step that is a predicate waits until it holds (or times out).
 # ("shot", name, newest window) runs a tick after the step before it, once the
 # window has redrawn.
@@ -199,7 +297,13 @@ STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_pane
          ("shot", "04_baked", False), apply_and_cycles, ("shot", "05_denoiser_warning", False),
          denoising_off, ("shot", "06_denoising_off", False), start_render,
          ("wait", render_done, 300), after_render, ("shot", "07_f12", True), compare,
-         ("shot", "08_compare", True), long_bake_asks, ("shot", "09_long_bake_asks", False)]
+         ("shot", "08_compare", True), material_setup, material_estimate, ("shot", "material_01_panel", False),
+         start_material, ("shot", "material_02_baking", False), ("wait", material_done, 600),
+         material_baked, ("shot", "material_03_baked", False), apply_material,
+         material_preview, ("wait", shaders_compiled, 120),
+         ("shot", "material_04_preview", False), move_light, ("wait", shaders_compiled, 120),
+         ("shot", "material_05_light_moved", False), restore_scene,
+         long_bake_asks, ("shot", "09_long_bake_asks", False)]
 state = {"i": 0, "since": time.time()}
 
 
