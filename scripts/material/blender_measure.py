@@ -157,6 +157,13 @@ def main():
     res["eevee"] = {"vs_reference": errors(ref_paper, prefix + "_still.exr")[0],
                     "vs_cycles_64": rel(cyc64, prefix + "_still.exr"),
                     "render_seconds": t["still"], "wall_seconds": wall}
+    # Eevee at the far camera: coarse levels, where GPU filtering of an atlas
+    # would bleed tiles (the node tree reads every image Closest).
+    prefix = os.path.join(bl, "far_eevee_64")
+    blender("still", os.path.join(scenes, "far_camera.json"), mat, prefix, "--samples", 64,
+            "--engine", "eevee")
+    res["eevee"]["far_camera_vs_reference"] = errors(os.path.join(out, "ref_far_camera.exr"),
+                                                     prefix + "_still.exr")[0]
     prefix = os.path.join(bl, "paper_lit_64")
     wall, t = blender("still", paper, mat, prefix, "--samples", 64, "--route", "cycles-lit")
     res["cycles_lit"] = {"vs_exact_64": rel(cyc64, prefix + "_still.exr"),

@@ -293,11 +293,10 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
     step = g.combine(g.math("MULTIPLY", pitch, float(K) / pack.width, column=12),
                      float(pack.band) / pack.height, 0.0, column=12)
 
-    # 5. Lights: direction, irradiance, light factors.
+    # 5. Lights: direction, irradiance and the light-factor address, per light.
     lit = route == "cycles-lit"
     rank = pack.rank
-    weights = [None] * rank          # W_k (front lights when lit)
-    weights_back = [None] * rank     # lights behind the surface (cycles-lit only)
+    per_light = []   # (light-factor uv, [(irradiance, accumulator index)])
     denom = None
     col = 13
     for l in range(n_lights):
@@ -310,7 +309,7 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
                     column=col)
         atten = g.math("ADD", g.math("MULTIPLY", is_point, g.math("SUBTRACT", g.math(
             "DIVIDE", 1.0, r2, column=col), 1.0, column=col), column=col), 1.0, column=col)
-        irradiance = g.scale(irr, atten, col)
+        irradiance = _mix(g, "ADD", BLACK, irr, atten, col)
         lx, ly, lz = local(direction, col + 1)
         light_side = g.math("LESS_THAN", lz, 0.0, column=col + 1)
         lu, lv = hemi(lx, ly, lz, col + 1)
@@ -330,49 +329,61 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
         if lit:
             cos_l = g.vmath("DOT_PRODUCT", direction, facing, column=col + 5)
             front = g.math("GREATER_THAN", cos_l, 0.0, column=col + 5)
-            e_front = g.scale(irradiance, front, col + 5)
-            e_back = g.vmath("SUBTRACT", irradiance, e_front, column=col + 5)
-            term = g.scale(e_front, g.math("MAXIMUM", cos_l, 0.0, column=col + 5), col + 5)
-            denom = term if denom is None else g.vmath("ADD", denom, term, column=col + 6)
-        for gi in range(pack.groups):
-            tex = g.node("ShaderNodeTexImage", col + 6, image=light_image,
+            e_front = _mix(g, "ADD", BLACK, irradiance, front, col + 5)
+            e_back = _mix(g, "SUBTRACT", irradiance, e_front, 1.0, col + 5)
+            term = _mix(g, "ADD", BLACK, e_front, g.math("MAXIMUM", cos_l, 0.0, column=col + 5),
+                        col + 5)
+            denom = term if denom is None else _mix(g, "ADD", denom, term, 1.0, col + 6)
+            per_light.append((luv, [(e_front, 0), (e_back, 1)]))
+        else:
+            per_light.append((luv, [(irradiance, 0)]))
+        col += 7
+
+    # 6. Per group of four components: each light's factors, then the four
+    # coefficients, summed at once. Nodes are made in this order because
+    # Cycles compiles them in creation order and keeps a value on its SVM
+    # stack (255 floats) until its last user: all W_k first, then all C_k,
+    # overflowed the stack at rank 24 on the cycles-lit route ("out of SVM
+    # stack space": a black cloth).
+    sums = [None, None]        # radiance (front when lit), radiance from behind
+    alpha = None
+    for gi in range(pack.groups):
+        factors = []
+        for l, (luv, _) in enumerate(per_light):
+            tex = g.node("ShaderNodeTexImage", col, image=light_image,
                          interpolation="Closest", extension="EXTEND",
                          label=f"light {l} factors {4 * gi}..{4 * gi + 3}")
             g.feed(tex.inputs["Vector"], g.vmath("ADD", luv, (gi * 2.0 * K * Q / pack.light_width,
-                                                              0.0, 0.0), column=col + 6))
-            r, gg, b = g.separate(tex.outputs["Color"], column=col + 7)
-            for c, factor in enumerate((r, gg, b, tex.outputs["Alpha"])):
-                kk = 4 * gi + c
-                if kk >= rank:
-                    break
-                if lit:
-                    weights[kk] = _madd(g, e_front, factor, weights[kk], col + 8)
-                    weights_back[kk] = _madd(g, e_back, factor, weights_back[kk], col + 8)
-                else:
-                    weights[kk] = _madd(g, irradiance, factor, weights[kk], col + 8)
-        col += 10
-
-    # 6. Coefficients and the sum over components.
-    radiance = radiance_back = None
-    alpha = None
-    for kk in range(rank):
-        where = None
-        if kk:
-            n = g.node("ShaderNodeVectorMath", col, operation="MULTIPLY_ADD")
-            g.feed(n.inputs[0], step)
-            g.feed(n.inputs[1], (float(kk % pack.per_row), float(kk // pack.per_row), 0.0))
-            g.feed(n.inputs[2], uv0)
-            where = n.outputs["Vector"]
-        tex = g.node("ShaderNodeTexImage", col + 1, image=coeff_image, interpolation="Closest",
-                     extension="EXTEND", label=f"component {kk}")
-        g.feed(tex.inputs["Vector"], where if where is not None else uv0)
-        if kk == 0:
-            alpha = tex.outputs["Alpha"]
-        if weights[kk] is not None:
-            radiance = _vmadd(g, tex.outputs["Color"], weights[kk], radiance, col + 2)
-        if lit and weights_back[kk] is not None:
-            radiance_back = _vmadd(g, tex.outputs["Color"], weights_back[kk], radiance_back,
-                                   col + 3)
+                                                              0.0, 0.0), column=col))
+            r, gg, b = g.separate(tex.outputs["Color"], column=col + 1)
+            factors.append((r, gg, b, tex.outputs["Alpha"]))
+        for c in range(4):
+            kk = 4 * gi + c
+            if kk >= rank:
+                break
+            where = uv0
+            if kk:
+                n = g.node("ShaderNodeVectorMath", col + 2, operation="MULTIPLY_ADD")
+                g.feed(n.inputs[0], step)
+                g.feed(n.inputs[1], (float(kk % pack.per_row), float(kk // pack.per_row), 0.0))
+                g.feed(n.inputs[2], uv0)
+                where = n.outputs["Vector"]
+            tex = g.node("ShaderNodeTexImage", col + 3, image=coeff_image,
+                         interpolation="Closest", extension="EXTEND", label=f"component {kk}")
+            g.feed(tex.inputs["Vector"], where)
+            if kk == 0:
+                alpha = tex.outputs["Alpha"]
+            weights = [None, None]
+            for (luv, parts), f in zip(per_light, factors):
+                for e, which in parts:
+                    weights[which] = _mix(g, "ADD", weights[which] or BLACK, e, f[c], col + 4)
+            for which in (0, 1):
+                if weights[which] is not None:
+                    term = _mix(g, "MULTIPLY", tex.outputs["Color"], weights[which], 1.0, col + 5)
+                    sums[which] = term if sums[which] is None else \
+                        _mix(g, "ADD", sums[which], term, 1.0, col + 5)
+        col += 6
+    radiance, radiance_back = sums
     zero = (0.0, 0.0, 0.0)
     radiance = g.vmath("MAXIMUM", radiance if radiance is not None else zero, zero,
                        column=col + 4)
@@ -409,25 +420,22 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
     return group
 
 
-def _madd(g, vector, scalar, acc, column):
-    """vector * scalar + acc (acc None: vector * scalar)."""
-    if acc is None:
-        return g.scale(vector, scalar, column)
-    n = g.node("ShaderNodeVectorMath", column, operation="MULTIPLY_ADD")
-    g.feed(n.inputs[0], vector)
-    g.feed(n.inputs[1], scalar)
-    g.feed(n.inputs[2], acc)
-    return n.outputs["Vector"]
+BLACK = (0.0, 0.0, 0.0, 1.0)
 
 
-def _vmadd(g, a, b, acc, column):
-    if acc is None:
-        return g.vmath("MULTIPLY", a, b, column=column)
-    n = g.node("ShaderNodeVectorMath", column, operation="MULTIPLY_ADD")
-    g.feed(n.inputs[0], a)
-    g.feed(n.inputs[1], b)
-    g.feed(n.inputs[2], acc)
-    return n.outputs["Vector"]
+def _mix(g, blend, a, b, fac, column):
+    """Colour a (blend) b by fac, factor and result unclamped (Blender 3.4's
+    Mix node; the legacy MixRGB clamps fac in Eevee). Colours throughout:
+    a float or vector into a colour socket makes Cycles insert a conversion
+    node after all others, which delays its users to a later compile pass
+    while every ready texture read is compiled and held on the 255-float SVM
+    stack ("out of SVM stack space": a black cloth at rank 24)."""
+    n = g.node("ShaderNodeMix", column, data_type="RGBA", blend_type=blend,
+               clamp_factor=False, clamp_result=False)
+    g.feed(n.inputs[0], fac)
+    g.feed(n.inputs[6], a)
+    g.feed(n.inputs[7], b)
+    return n.outputs[2]
 
 
 # --- drivers -----------------------------------------------------------------
