@@ -49,6 +49,7 @@ import numpy as np
 
 from ..core.errors import ClothbakeError
 from ..core.material_pack import HORIZON, pack_material, read_material
+from . import patch_nodes
 from .graph import Graph
 
 ROUTES = ("exact", "cycles-lit")
@@ -567,6 +568,10 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     obj.data.materials.clear()
     obj.data.materials.append(material)
     obj["clothbake_material"] = info.folder
+    # A per-scene lookup's patch modifier (apply.py) means nothing to a
+    # material, and its geometry-nodes output left Eevee's viewport without
+    # the UV map's tangents: a black plane in Material Preview.
+    patch_nodes.detach(obj)
 
     # The weave's depth in the material against this object's (docs/material-format.md).
     mm_along = info.repeat_mm[0] * repeats / scale
