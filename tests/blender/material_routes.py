@@ -323,6 +323,19 @@ def main():
     save_sheet([refs["base"], exact, eevee, lit, lit_s],
                os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_routes.png"))
 
+    # A second object with the same material keeps the first one's working
+    # (the group is shared, never removed under it).
+    twin = obj.copy()
+    twin.data = obj.data.copy()
+    scene.collection.objects.link(twin)
+    apply_material(twin, material, route="exact")
+    apply_material(obj, material, route="exact")
+    for o in (obj, twin):
+        group = next(n for n in o.active_material.node_tree.nodes if n.type == "GROUP")
+        check(group.node_tree is not None and len(group.inputs) > 10,
+              f"'{o.name}' keeps its node group after the other object's Apply "
+              f"({len(group.inputs)} inputs)")
+
     # Refusals: no UV map, not a mesh, no material folder.
     mesh = bpy.data.meshes.new("no uv")
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])

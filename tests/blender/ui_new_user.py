@@ -277,6 +277,8 @@ def move_light():
     if light is not None:
         state["light_at"] = tuple(light.location)
         light.location = (-3.0, -4.0, 5.0)  # still above the plane, from the other side
+    if os.environ.get("CLOTHBAKE_UI_SAVE"):  # for looking at the scene afterwards
+        bpy.ops.wm.save_as_mainfile(filepath=os.environ["CLOTHBAKE_UI_SAVE"], copy=True)
 
 
 def restore_scene():

@@ -159,11 +159,21 @@ def _inputs(group, n_lights):
         new("NodeSocketFloat", f"Light {l} point")
 
 
+GROUP_VERSION = 1
+
+
 def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
-    group = bpy.data.node_groups.get(name)
-    if group is not None:
-        bpy.data.node_groups.remove(group)
+    """The node group, reused when one of this name was built from the same
+    pack; else built anew and every material of the old one moved onto it
+    (removing it would leave other objects' group nodes empty: a black
+    plane once the sphere beside it was applied)."""
+    key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {n_lights} {route} " \
+          f"{pack.width}x{pack.height}"
+    old = bpy.data.node_groups.get(name)
+    if old is not None and old.get("clothbake_key") == key:
+        return old
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
+    group["clothbake_key"] = key
     _inputs(group, n_lights)
     group.outputs.new("NodeSocketShader", "Shader")
     group.outputs.new("NodeSocketColor", "Color")
@@ -418,6 +428,11 @@ def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
     g.links.new(add.outputs[0], out.inputs["Shader"])
     g.links.new(color_out, out.inputs["Color"])
     g.links.new(alpha, out.inputs["Alpha"])
+    old = bpy.data.node_groups.get(name)
+    if old is not None and old != group:
+        old.user_remap(group)
+        bpy.data.node_groups.remove(old)
+        group.name = name
     return group
 
 
