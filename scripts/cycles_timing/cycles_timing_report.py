@@ -6,6 +6,7 @@ and seconds each needs for a noise level, and how far the two pictures are
 apart.
 
 Usage: cycles_timing_report.py OUT_DIR VOL_SAMPLES VOL_REF BAKE_SAMPLES BAKE_REF FIGURE.png
+                               [MAT_SAMPLES MAT_REF]
   (sample lists comma-separated; file names as the driver writes them)
 
 Noise is the relative RMSE of `clothbake compare`: the RMSE over every pixel's
@@ -97,10 +98,29 @@ def route(name, runs, ref_img, nref):
             "cpu_seconds_per_sample": float(c1), "cpu_seconds_fixed": float(c0), "levels": levels}
 
 
+def headless_runs(out, folder, prefix, samples, nref, steps):
+    """The add-on's headless renders, one Blender process per sample count;
+    the last entry is the reference (seed 7)."""
+    runs = []
+    for n in samples + [nref]:
+        seed = 7 if n == nref and n not in samples else 1
+        tag = "%s_s%d_seed%d" % (prefix, n, seed)
+        with open(os.path.join(out, folder, tag + "_timings.json")) as f:
+            ht = json.load(f)
+        with open(os.path.join(out, folder, tag + "_clock.json")) as f:
+            ck = json.load(f)
+        runs.append({"samples": n, "seed": seed, "render_seconds": ht["render_seconds"],
+                     "cpu_seconds": ck["renders"][0]["cpu_seconds"],
+                     "process_seconds": steps[tag]["seconds"],
+                     "exr": os.path.join(out, folder, tag + ".exr")})
+    return runs
+
+
 def main():
-    if len(sys.argv) != 7:
+    if len(sys.argv) not in (7, 9):
         sys.exit(__doc__)
-    out, vs, vref, bs, bref, figure = sys.argv[1:]
+    out, vs, vref, bs, bref, figure = sys.argv[1:7]
+    material_args = sys.argv[7:9]
     vs = [int(s) for s in vs.split(",")]
     bs = [int(s) for s in bs.split(",")]
     vref, bref = int(vref), int(bref)
@@ -151,6 +171,15 @@ def main():
                       "load_seconds": proc - ht["render_seconds"] - ht.get("write_seconds", 0.0),
                       "exr": os.path.join(out, "bakeroute", tag + ".exr")})
     bake_ref_run = bruns.pop()
+    material = None
+    if material_args:
+        ms, mref = [int(x) for x in material_args[0].split(",")], int(material_args[1])
+        mruns = headless_runs(out, "matroute", "material", ms, mref, steps)
+        mat_ref_run = mruns.pop()
+        material = route("material", mruns, read_float(mat_ref_run["exr"]), mref)
+        material["reference"] = {k: mat_ref_run[k] for k in ("samples", "seed", "render_seconds",
+                                                             "cpu_seconds")}
+        material["clothbake_material"] = steps.get("clothbake_material")
     bake_ref = read_float(bake_ref_run["exr"])
     bake = route("bake", bruns, bake_ref, bref)
     bake["reference"] = {k: bake_ref_run[k] for k in ("samples", "seed", "render_seconds", "cpu_seconds")}
@@ -192,13 +221,15 @@ def main():
            "light_units": json.load(open(os.path.join(out, "light_units.json"))),
            "tiled_volume": json.load(open(os.path.join(out, "tiled.json"))),
            "volume": vol, "bake": bake, "pictures": pictures}
+    if material is not None:
+        res["material"] = material
     with open(os.path.join(out, "cycles_timing.json"), "w") as f:
         json.dump(res, f, indent=2)
     with open(os.path.join(out, "cycles_timing.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["route", "samples", "seed", "render_seconds", "cpu_seconds",
                     "relative_rmse_raw", "relative_rmse"])
-        for rt in (vol, bake):
+        for rt in [r for r in (vol, bake, material) if r is not None]:
             for r in rt["runs"]:
                 w.writerow([rt["route"], r["samples"], r["seed"], "%.3f" % r["render_seconds"],
                             "%.3f" % r["cpu_seconds"], "%.5f" % r["relative_rmse_raw"],
@@ -208,7 +239,7 @@ def main():
                         "%.3f" % ref["render_seconds"], "%.3f" % ref["cpu_seconds"], "", ""])
         w.writerow([])
         w.writerow(["route", "level", "samples", "render_seconds", "extrapolated"])
-        for rt in (vol, bake):
+        for rt in [r for r in (vol, bake, material) if r is not None]:
             for lv in rt["levels"]:
                 w.writerow([rt["route"], lv["level"], "%.1f" % lv["samples"],
                             "%.2f" % lv["render_seconds"], int(lv["extrapolated"])])

@@ -17,7 +17,8 @@
 # manifest, and its step line from the previous steps.tsv).
 #
 # Sample counts: VOL_SAMPLES (1,4,16,64,256) against a VOL_REF-sample
-# reference (512, another seed); BAKE_SAMPLES (1,4,16) against BAKE_REF (256).
+# reference (512, another seed); BAKE_SAMPLES (1,4,16) against BAKE_REF (256);
+# MAT_SAMPLES (4,16,64) against MAT_REF (256) for the cloth material.
 set -euo pipefail
 
 cd "$(dirname "$0")/../.."
@@ -31,6 +32,8 @@ VOL_SAMPLES=${VOL_SAMPLES:-1,4,16,64,256}
 VOL_REF=${VOL_REF:-512}
 BAKE_SAMPLES=${BAKE_SAMPLES:-1,4,16}
 BAKE_REF=${BAKE_REF:-256}
+MAT_SAMPLES=${MAT_SAMPLES:-4,16,64}
+MAT_REF=${MAT_REF:-256}
 REUSE_BAKE=0
 for a in "$@"; do
   case "$a" in
@@ -41,7 +44,7 @@ done
 [[ -x $CLOTHBAKE ]] || { echo "no clothbake at $CLOTHBAKE (build first)" >&2; exit 1; }
 [[ -f blender_addon/headless_render.py ]] || { echo "no blender_addon/headless_render.py" >&2; exit 1; }
 
-mkdir -p "$OUT/vol" "$OUT/bakeroute"
+mkdir -p "$OUT/vol" "$OUT/bakeroute" "$OUT/matroute"
 old_bake_step=$(grep -s '^clothbake_bake' "$OUT/steps.tsv" || true)
 : > "$OUT/steps.tsv"
 TIMES_TMP=$(mktemp)
@@ -122,5 +125,23 @@ bake_render() {  # bake_render SAMPLES SEED
 for n in ${BAKE_SAMPLES//,/ }; do bake_render "$n" 1; done
 bake_render "$BAKE_REF" 7
 
-# 7. Figures.
-"$PY" scripts/cycles_timing/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE"
+# 7. The material route (issue 16): one cloth material of the flat cloth,
+#    baked once for any scene, applied by the add-on (exact route).
+if [[ $REUSE_BAKE == 1 && -f $OUT/material/manifest.json ]]; then
+  echo "== clothbake_material: reusing $OUT/material"
+else
+  step clothbake_material "$CLOTHBAKE" material "$SCENE" -o "$OUT/material" --quiet
+fi
+material_render() {  # material_render SAMPLES SEED
+  local tag="material_s$1_seed$2"
+  CLOTHBAKE_RENDER_CLOCK="$OUT/matroute/${tag}_clock.json" step "$tag" blender_run \
+    -P scripts/blender/render_clock.py -P blender_addon/headless_render.py -- \
+    "$SCENE" "$OUT/material" "$OUT/matroute/$tag.exr" --samples "$1" --seed "$2" \
+    --timings "$OUT/matroute/${tag}_timings.json"
+}
+for n in ${MAT_SAMPLES//,/ }; do material_render "$n" 1; done
+material_render "$MAT_REF" 7
+
+# 8. Figures.
+"$PY" scripts/cycles_timing/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE" \
+  "$MAT_SAMPLES" "$MAT_REF"
