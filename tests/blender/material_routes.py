@@ -19,6 +19,8 @@ scene JSON and the same material:
                 the cloth ignores the sphere
   refusals      a mesh with no UV map, a camera, a missing folder: one
                 ClothbakeError each, never a traceback
+  paper         the paper scene with a small material of its cloth: Eevee
+                against Cycles
 
 Bounds are derived from the samples used: every Blender render is made with
 two seeds, and their relative RMSE d gives the render's own noise
@@ -351,6 +353,28 @@ def main():
         except ClothbakeError as e:
             check(text in str(e), f"{what}: refused with '{e}'")
     check(len(bare.data.materials) == 0, "the refused mesh was left as it was")
+
+    # The paper scene (folded quads, fibre shading, y up): Eevee against
+    # Cycles there, with a small material of the paper cloth.
+    paper = os.path.join(SOURCE, "testscenes", "paper", "scene.json")
+    paper_material = os.path.join(TMP, "paper_material")
+    run(["material", paper, "-o", paper_material, "--texels", "16", "--directions", "8",
+         "--light-directions", "6", "--spp", "1", "--quiet"])
+    (cloth,) = import_scene(paper, clear=True, samples=SPP)
+    bilinear_patches(cloth)
+    apply_material(cloth, paper_material, route="exact")
+    cycles_paper = pair("paper_cycles")
+    scene.render.engine = "BLENDER_EEVEE"
+    use_eevee(scene, SPP)
+    eevee = render(os.path.join(TMP, "paper_eevee.exr"), 1)
+    use_eevee(scene, 2 * SPP)
+    eevee2 = render(os.path.join(TMP, "paper_eevee2.exr"), 1)
+    eevee_n = Noisy(eevee, eevee)
+    eevee_n.sigma = rel_rmse(eevee2, eevee) / math.sqrt(1.5)
+    eevee_n.sigma4 = rel_rmse(blocks(eevee2), blocks(eevee)) / math.sqrt(1.5)
+    compare("paper scene: Eevee against Cycles", eevee_n, cycles_paper.image, SYS_EEVEE,
+            ref_sigma=(cycles_paper.sigma, cycles_paper.sigma4))
+    scene.render.engine = "CYCLES"
 
 
 def shadow_mask(centre, radius, to_sun, light_at=None):

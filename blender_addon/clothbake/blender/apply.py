@@ -95,9 +95,10 @@ def check_mesh(obj, lookup, lookup_object):
     return rm
 
 
-def _load_image(path):
-    """Loads an atlas as raw linear data; half precision in Cycles (the file
-    is half already), alpha kept as a separate channel."""
+def load_data_image(path, half=True):
+    """Loads an image of data (an atlas) as raw linear values, alpha kept as
+    a separate channel; half precision in Cycles when `half` (the file is
+    half already), else float. Reloaded when already loaded."""
     for image in bpy.data.images:
         if image.filepath and bpy.path.abspath(image.filepath) == path:
             image.reload()
@@ -106,7 +107,7 @@ def _load_image(path):
     image.colorspace_settings.name = "Non-Color"
     image.alpha_mode = "CHANNEL_PACKED"
     if hasattr(image, "use_half_precision"):
-        image.use_half_precision = True
+        image.use_half_precision = half
     return image
 
 
@@ -334,7 +335,7 @@ def apply_lookup(obj, folder):
     for side, key in enumerate(("front", "back")):
         atlas = lobj.sides[key]
         sides[key] = None if atlas is None else (
-            _load_image(atlas.path),
+            load_data_image(atlas.path),
             _index_image(f"clothbake {obj.name} {key} index", lobj, side, lookup.k, degenerate),
             atlas.width, atlas.height)
     group = build_group(f"clothbake {obj.name}", lookup.k, lobj.quads, sides)

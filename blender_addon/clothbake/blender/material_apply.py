@@ -50,6 +50,7 @@ import numpy as np
 from ..core.errors import ClothbakeError
 from ..core.material_pack import HORIZON, pack_material, read_material
 from . import patch_nodes
+from .apply import load_data_image
 from .graph import Graph
 
 ROUTES = ("exact", "cycles-lit")
@@ -127,21 +128,6 @@ def _cloth_settings(obj):
         return float(s.repeats_per_uv), float(s.thickness_world)
     return float(obj.get("clothbake_repeats_per_uv", 40.0)), \
         float(obj.get("clothbake_thickness_world", 0.01))
-
-
-# --- images ----------------------------------------------------------------
-
-def _image(path, half):
-    for image in bpy.data.images:
-        if image.filepath and bpy.path.abspath(image.filepath) == path:
-            image.reload()
-            return image
-    image = bpy.data.images.load(path, check_existing=False)
-    image.colorspace_settings.name = "Non-Color"
-    image.alpha_mode = "CHANNEL_PACKED"
-    if hasattr(image, "use_half_precision"):
-        image.use_half_precision = half
-    return image
 
 
 # --- the node group ----------------------------------------------------------
@@ -534,8 +520,8 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     info = read_material(folder)
     scale = world_per_uv(obj, uv_name, depsgraph)
     pack = pack_material(info, rank)
-    coeff = _image(pack.coefficients, True)
-    lights_img = _image(pack.light_factors, False)
+    coeff = load_data_image(pack.coefficients, half=True)
+    lights_img = load_data_image(pack.light_factors, half=False)
     lights, notes = scene_lights(scene)
     if not lights:
         notes.append("the scene has no sun or point light: the cloth renders black until one "
