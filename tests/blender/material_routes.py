@@ -157,16 +157,31 @@ class Noisy:
     """A render and its noise: sigma = relative RMSE between two seeds /
     sqrt(2), at full resolution and over 4 x 4 blocks."""
 
-    def __init__(self, a, b):
+    def __init__(self, a, b, spread=math.sqrt(2.0)):
+        """spread: the difference's standard deviation in units of one
+        render's (sqrt(2) for two seeds of equal samples)."""
         self.image = a
-        self.sigma = rel_rmse(a, b) / math.sqrt(2.0)
-        self.sigma4 = rel_rmse(blocks(a), blocks(b)) / math.sqrt(2.0)
+        self.sigma = rel_rmse(a, b) / spread
+        self.sigma4 = rel_rmse(blocks(a), blocks(b)) / spread
 
 
 def pair(name, seeds=(1, 2)):
     a = render(os.path.join(TMP, f"{name}_s{seeds[0]}.exr"), seeds[0])
     b = render(os.path.join(TMP, f"{name}_s{seeds[1]}.exr"), seeds[1])
     return Noisy(a, b)
+
+
+def eevee_pair(name, use_eevee):
+    """An Eevee render at SPP samples and its noise. Eevee has no seed: the
+    noise comes from SPP against 2 SPP samples (the difference has variance
+    sigma^2 (1 + 1/2), so sigma = d / sqrt(1.5)). Leaves Eevee on."""
+    scene = bpy.context.scene
+    scene.render.engine = "BLENDER_EEVEE"
+    use_eevee(scene, SPP)
+    a = render(os.path.join(TMP, f"{name}.exr"), 1)
+    use_eevee(scene, 2 * SPP)
+    b = render(os.path.join(TMP, f"{name}2.exr"), 1)
+    return Noisy(a, b, spread=math.sqrt(1.5))
 
 
 def compare(what, noisy, reference, systematic, ref_sigma=None):
@@ -268,17 +283,9 @@ def main():
     compare("shape key back at frame 1, against the flat OBJ", pair("frame1", (3, 4)),
             refs["base"], SYS)
 
-    # Eevee, the same node group. Its noise: two sample counts' difference.
-    scene.render.engine = "BLENDER_EEVEE"
-    use_eevee(scene, SPP)
-    eevee = render(os.path.join(TMP, "eevee.exr"), 1)
-    use_eevee(scene, 2 * SPP)
-    eevee2 = render(os.path.join(TMP, "eevee2.exr"), 1)
-    # Eevee has no seed: its noise from 64 against 128 samples (the
-    # difference has variance sigma^2 (1 + 1/2), so sigma = d / sqrt(1.5)).
-    eevee_n = Noisy(eevee, eevee)
-    eevee_n.sigma = rel_rmse(eevee2, eevee) / math.sqrt(1.5)
-    eevee_n.sigma4 = rel_rmse(blocks(eevee2), blocks(eevee)) / math.sqrt(1.5)
+    # Eevee, the same node group.
+    eevee_n = eevee_pair("eevee", use_eevee)
+    eevee = eevee_n.image
     compare("Eevee against lookup-render", eevee_n, refs["base"], SYS_EEVEE)
     compare("Eevee against Cycles", eevee_n, exact, SYS_EEVEE,
             ref_sigma=(exact_n.sigma, exact_n.sigma4))
@@ -364,15 +371,7 @@ def main():
     bilinear_patches(cloth)
     apply_material(cloth, paper_material, route="exact")
     cycles_paper = pair("paper_cycles")
-    scene.render.engine = "BLENDER_EEVEE"
-    use_eevee(scene, SPP)
-    eevee = render(os.path.join(TMP, "paper_eevee.exr"), 1)
-    use_eevee(scene, 2 * SPP)
-    eevee2 = render(os.path.join(TMP, "paper_eevee2.exr"), 1)
-    eevee_n = Noisy(eevee, eevee)
-    eevee_n.sigma = rel_rmse(eevee2, eevee) / math.sqrt(1.5)
-    eevee_n.sigma4 = rel_rmse(blocks(eevee2), blocks(eevee)) / math.sqrt(1.5)
-    compare("paper scene: Eevee against Cycles", eevee_n, cycles_paper.image, SYS_EEVEE,
+    compare("paper scene: Eevee against Cycles", eevee_pair("paper_eevee", use_eevee), cycles_paper.image, SYS_EEVEE,
             ref_sigma=(cycles_paper.sigma, cycles_paper.sigma4))
     scene.render.engine = "CYCLES"
 
