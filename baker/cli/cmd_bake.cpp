@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "core/util/hex.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/bake/baker.h"
@@ -179,10 +180,7 @@ void write_bake(const BakeArgs& args, const BakeJob& job, const std::vector<Look
   info.scene_path = args.scene;
   info.scene_hash = io::scene_fingerprint(job.scene);
   for (int o = 0; o < prepared.object_count(); ++o) {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx",
-                  (unsigned long long)prepared.volume(o).content_hash());
-    info.cloth_hashes.push_back(hex);
+    info.cloth_hashes.push_back(hex16(prepared.volume(o).content_hash()));
     info.quad_counts.push_back(prepared.quad_count(o));
     info.meshes.push_back(summarize_mesh(job.scene.objects[size_t(o)].mesh));
   }

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "io/enum_names.h"
 #include "core/util/error.h"
 #include "core/fiber/fiber_model.h"
 #include "core/fiber/fiber_table.h"
@@ -225,16 +226,9 @@ FiberInputs check_fiber_args(const FiberArgs& args) {
   if (!(args.exponent > 0.0 && std::isfinite(args.exponent)))
     throw InputError("--exponent", "must be a number > 0, got " + shown(args.exponent));
   FiberModelKind kind;
-  if (args.model == "ellipsoid") {
-    kind = FiberModelKind::Ellipsoid;
-  } else if (args.model == "table") {
-    kind = FiberModelKind::Table;
-  } else if (args.model == "kajiya-kay") {
-    kind = FiberModelKind::KajiyaKay;
-  } else {
-    throw InputError("--model",
-                     "expected ellipsoid, table or kajiya-kay, got '" + args.model + "'");
-  }
+  if (!io::parse_enum(io::k_fiber_model_names, args.model, kind))
+    throw InputError("--model", "expected one of " + io::enum_list(io::k_fiber_model_names) +
+                                    ", got '" + args.model + "'");
   return {kind, parse_vector(args.tangent, "--tangent").normalized(),
           parse_vector(args.light, "--light").normalized(),
           parse_vector(args.view, "--view").normalized()};

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "core/util/hex.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/bake/baker.h"
@@ -60,18 +61,12 @@ void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t bu
   const ClothScene& prepared = renderer->prepared();
   const std::string manifest = args.bake_dir + "/manifest.json";
   for (int o = 0; o < prepared.object_count(); ++o) {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)prepared.volume(o).content_hash());
-    if (info.cloth_hash != hex)
-      throw InputError("objects[" + std::to_string(o) + "].cloth",
-                       "is not the material's cloth: its volume texture hashes to " +
-                           std::string(hex) + ", the material (" + manifest + ") was baked from '" +
-                           info.cloth_name + "' with hash " + info.cloth_hash,
-                       args.scene);
     try {
       check_material_fits(prepared, o, material);
     } catch (const InputError& e) {
-      throw InputError(e.field(), e.message() + " (material " + manifest + ")", args.scene);
+      throw InputError(e.field(), e.message() + " (material " + manifest + ", baked from '" +
+                                      info.cloth_name + "')",
+                       args.scene);
     }
   }
   const std::vector<const ClothMaterial*> materials(size_t(prepared.object_count()), &material);
@@ -129,9 +124,7 @@ void run_lookup_render(const LookupRenderArgs& args) {
                            " quads, the scene's mesh " +
                            std::to_string(renderer->prepared().quad_count(o)) + "; bake again",
                        manifest);
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx",
-                  (unsigned long long)renderer->prepared().volume(o).content_hash());
+    const std::string hex = hex16(renderer->prepared().volume(o).content_hash());
     if (!info.cloth_hashes[o].empty() && info.cloth_hashes[o] != hex)
       throw InputError(field + ".cloth_hash",
                        "the lookup was baked from a volume with hash " + info.cloth_hashes[o] +

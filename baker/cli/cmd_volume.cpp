@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "core/util/hex.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
 #include "core/util/error.h"
@@ -116,12 +117,7 @@ void run_volume(const VolumeArgs& args) {
       {"mean_density", rho_sum / double(volume.cell_count())},
       {"occupied_fraction", double(occupied) / double(volume.cell_count())},
       {"seed", spec.seed},
-      {"cells_hash",
-       [&] {
-         char hex[17];
-         std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)volume.content_hash());
-         return std::string(hex);
-       }()},
+      {"cells_hash", hex16(volume.content_hash())},
       {"generate_seconds", seconds},
       {"memory_bytes", estimated_volume_bytes(spec)},
       {"files", {"volume.vdb", "top.png", "tangents.png", "section_warp.png", "section_weft.png"}}};

@@ -74,8 +74,8 @@ void check_output_folder(const std::string& final_path, const std::string& optio
 /// where the folder it replaces is set aside meanwhile: siblings named
 /// "<name>.tmp-<pid>" and "<name>.old-<pid>" (k_folder_temp_tag,
 /// k_folder_old_tag). The Blender add-on tidies up after a bake it killed by
-/// the same names (blender_addon/clothbake/core/folders.py; the add-on's
-/// tests read these two tags from this header).
+/// the same names (blender_addon/clothbake/core/defaults.py, folder_siblings;
+/// tests/addon/test_defaults.py reads these two tags from this header).
 inline constexpr const char* k_folder_temp_tag = ".tmp-";
 inline constexpr const char* k_folder_old_tag = ".old-";
 struct FolderSiblings {

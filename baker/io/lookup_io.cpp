@@ -14,11 +14,11 @@
 #include <stdio.h>
 #include <unistd.h>
 
-#include <OpenImageIO/imageio.h>
-
 #include "core/bake/lookup_merge.h"
 #include "core/util/error.h"
 #include "io/atomic_file.h"
+#include "io/data_image.h"
+#include "io/folder_output.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 
@@ -26,7 +26,6 @@ namespace clothbake::io {
 
 namespace {
 namespace fs = std::filesystem;
-namespace oiio = OIIO;
 using nlohmann::json;
 
 /// Checks the table's shape before anything is written about it.
@@ -47,116 +46,43 @@ void check_table(const LookupTable& t, size_t object, int k) {
 /// The atlas of one side, as it is in memory.
 void write_side_image(const std::string& path, const LookupTable& t, int side) {
   const LookupAtlas& atlas = t.atlases[side];
-  const size_t width = size_t(atlas.width), height = size_t(atlas.height);
-  const std::vector<Imath::half>& pixels = atlas.pixels;
-  oiio::ImageSpec spec(int(width), int(height), 4, oiio::TypeDesc::HALF);
-  spec.channelnames = {"R", "G", "B", "A"};
-  spec.alpha_channel = 3;
-  spec.attribute("compression", "zip");
-  // No capture date: the same lookup must give the same bytes (merge == whole bake).
-  spec.attribute("DateTime", "");
-  auto out = oiio::ImageOutput::create(path);
-  if (!out) throw InputError("", oiio::geterror(), path);
-  if (!out->open(path, spec) || !out->write_image(oiio::TypeDesc::HALF, pixels.data()) ||
-      !out->close()) {
-    const std::string why = out->geterror();  // geterror() clears the message
-    throw InputError("", why.empty() ? "write error" : why, path);
-  }
-}
-
-void write_manifest(const std::string& path, const json& manifest) {
-  errno = 0;
-  std::ofstream f(path, std::ios::binary);
-  f << manifest.dump(2) << "\n";
-  f.close();
-  if (!f) throw InputError("", errno != 0 ? std::strerror(errno) : "write error", path);
+  write_data_image(path, atlas.width, atlas.height, {"R", "G", "B", "A"}, atlas.pixels.data(), 3);
 }
 
 /// Reads a side atlas of want_w x want_h RGBA pixels, as halves.
 std::vector<Imath::half> read_side_image(const std::string& path, const std::string& named_by,
                                          int64_t want_w, int64_t want_h) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(
-        "", "cannot read the lookup image: missing (named by " + named_by + " in manifest.json)",
-        path);
-  auto in = oiio::ImageInput::open(path);
-  if (!in) throw InputError("", "cannot read the lookup image: " + oiio::geterror(), path);
-  const oiio::ImageSpec& spec = in->spec();
-  if (spec.nchannels != 4)
-    throw InputError(
-        "",
-        "has " + std::to_string(spec.nchannels) + " channels; a lookup image has 4 (R, G, B, A)",
-        path);
-  if (spec.width != want_w || spec.height != want_h || spec.depth != 1)
-    throw InputError("",
-                     "is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-                         " pixels; the manifest (" + named_by + ".size) says " +
-                         std::to_string(want_w) + " x " + std::to_string(want_h),
-                     path);
-  std::vector<Imath::half> pixels(size_t(want_w) * size_t(want_h) * 4);
-  if (!in->read_image(0, 0, 0, 4, oiio::TypeDesc::HALF, pixels.data())) {
-    std::string why = in->geterror();
-    if (why.empty()) why = "corrupt or truncated file";
-    throw InputError("", "cannot read the lookup image: " + why, path);
-  }
-  in->close();
-  return pixels;
+  DataImageExpect want;
+  want.width = int(want_w);
+  want.height = int(want_h);
+  want.channels = {"R", "G", "B", "A"};
+  want.by_name = false;  // the file's first four channels, as written
+  want.missing =
+      "cannot read the lookup image: missing (named by " + named_by + " in manifest.json)";
+  want.cannot_read = "cannot read the lookup image: ";
+  want.corrupt = "corrupt or truncated file";
+  want.size_from = "the manifest (" + named_by + ".size)";
+  want.channels_from = "a lookup image has 4 (R, G, B, A)";
+  return read_data_image_half(path, want);
 }
 
 }  // namespace
 
-void check_lookup_destination(const std::string& dir) {
-  std::error_code ec;
-  fs::path final_dir(dir);
-  if (!final_dir.has_filename()) final_dir = final_dir.parent_path();  // "out/" -> "out"
-  // The swap renames inside the parent: it must be writable (if it exists yet).
-  const fs::path parent = final_dir.has_parent_path() ? final_dir.parent_path() : fs::path(".");
-  if (fs::is_directory(parent, ec) && ::access(parent.c_str(), W_OK | X_OK) != 0)
-    throw InputError(
-        "", "cannot write in the folder " + parent.string() + ": " + std::strerror(errno), dir);
-  if (!fs::exists(final_dir, ec)) return;
-  if (!fs::is_directory(final_dir, ec)) throw InputError("", "exists and is not a folder", dir);
-  if (!fs::is_empty(final_dir, ec) && !fs::exists(final_dir / k_lookup_manifest_name, ec))
-    throw InputError("", "exists and is not a lookup folder (no manifest.json); not replacing it",
-                     dir);
-}
+void check_lookup_destination(const std::string& dir) { check_folder_destination(dir, "lookup"); }
 
 void write_lookup(const std::string& dir, const std::vector<LookupTable>& tables,
                   const LookupInfo& info, const Scene& scene) {
-  const FolderSiblings names = folder_siblings(dir);
-  const fs::path temp_dir(names.temp_dir);
-
-  // Refuse to replace anything but a lookup folder (or an empty one): the
-  // swap below deletes the previous contents.
-  check_lookup_destination(dir);
-  std::error_code ec;
-
-  // Step 1: everything into the temporary sibling folder, the manifest last.
+  // The tables' shapes are checked before anything is written.
   const int k = tables.empty() ? 0 : tables[0].dirs.k;
   for (size_t o = 0; o < tables.size(); ++o) check_table(tables[o], o, k);
-  fs::remove_all(temp_dir, ec);                    // left over by a crashed run with our pid
-  UnfinishedOutput unfinished(temp_dir.string());  // removed on a throw or an interrupt
-  fs::create_directories(temp_dir, ec);
-  if (ec)
-    throw InputError(
-        "", "cannot create the temporary folder " + temp_dir.string() + ": " + ec.message(), dir);
-  try {
+  write_folder(dir, "lookup", 0, [&](const fs::path& temp_dir) {
     for (size_t o = 0; o < tables.size(); ++o)
       for (int side = 0; side < 2; ++side)
         if (side_has_atlas(tables[o], side))
           write_side_image((temp_dir / lookup_image_name(o, side)).string(), tables[o], side);
-    write_manifest((temp_dir / k_lookup_manifest_name).string(),
-                   lookup_manifest_json(tables, info, scene));
-  } catch (const InputError& e) {
-    // Name the folder the user asked for, not the temporary one.
-    throw InputError("",
-                     "cannot write " + fs::path(e.file()).filename().string() + ": " + e.message() +
-                         "; nothing under this name was changed",
-                     dir);
-  }
-  // Step 2: swap it in; the previous folder survives until the new one is in place.
-  publish_folder(unfinished, names, "lookup");
+    write_json_file((temp_dir / k_lookup_manifest_name).string(),
+                    lookup_manifest_json(tables, info, scene));
+  });
 }
 
 std::vector<LookupTable> read_lookup_manifest(const std::string& manifest_text,

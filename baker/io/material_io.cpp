@@ -1,44 +1,28 @@
 #include "io/material_io.h"
 
-#include <cerrno>
-#include <cstdio>
 #include <cmath>
-#include <cstring>
+#include <cstdio>
 #include <filesystem>
-#include <fstream>
-
-#include <unistd.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include "core/material/material_bake.h"
 #include "core/util/error.h"
-#include "io/atomic_file.h"
+#include "core/util/hex.h"
+#include "io/data_image.h"
+#include "io/enum_names.h"
+#include "io/folder_output.h"
 #include "io/json_reader.h"
-#include "io/lookup_manifest.h"
 #include "io/text_file.h"
 
 namespace clothbake::io {
 
 namespace {
 namespace fs = std::filesystem;
-namespace oiio = OIIO;
 using Imath::V3f;
 using nlohmann::json;
 
-constexpr const char* k_manifest = "manifest.json";
 constexpr const char* k_light_file = "light_factors.exr";
 
 std::string level_file(int m) { return "level_" + std::to_string(m) + ".exr"; }
-
-const char* shading_name(ShadingMode s) { return s == ShadingMode::Isotropic ? "isotropic" : "fiber"; }
-const char* fiber_model_name(FiberModelKind k) {
-  switch (k) {
-    case FiberModelKind::Table: return "table";
-    case FiberModelKind::KajiyaKay: return "kajiya-kay";
-    default: return "ellipsoid";
-  }
-}
 
 /// "k0003": zero-padded, so that the names sort in component order (OpenEXR
 /// stores channels sorted by name; readers find them by name).
@@ -46,13 +30,6 @@ std::string component_name(int k) {
   char buf[16];
   std::snprintf(buf, sizeof buf, "k%04d", k);
   return buf;
-}
-
-/// The pixel of texel (x, y) of view node v in a level's atlas (tiles of
-/// side x side, K to a row; docs/material-format.md, "The images").
-size_t atlas_pixel(int v, int x, int y, int side, int K) {
-  const size_t px = size_t(v % K) * side + x, py = size_t(v / K) * side + y;
-  return py * size_t(K) * side + px;
 }
 
 /// The coefficient channels' names: alpha, then R, G, B of each component.
@@ -63,59 +40,23 @@ std::vector<std::string> level_channels(int max_rank) {
   return names;
 }
 
-void write_image(const std::string& path, int width, int height,
-                 const std::vector<std::string>& channels, oiio::TypeDesc type, const void* data) {
-  oiio::ImageSpec spec(width, height, int(channels.size()), type);
-  spec.channelnames = channels;
-  spec.attribute("compression", "zip");
-  spec.attribute("DateTime", "");  // no capture date: the same material gives the same bytes
-  auto out = oiio::ImageOutput::create(path);
-  if (!out) throw InputError("", oiio::geterror(), path);
-  if (!out->open(path, spec) || !out->write_image(type, data) || !out->close()) {
-    const std::string why = out->geterror();
-    throw InputError("", why.empty() ? "write error" : why, path);
-  }
+/// The light factors' channels: one per component, at least one.
+std::vector<std::string> light_channels(int max_rank) {
+  std::vector<std::string> names;
+  for (int k = 0; k < std::max(1, max_rank); ++k) names.push_back(component_name(k));
+  return names;
 }
 
-/// Reads an image of exactly width x height x channels (names checked).
-template <typename T>
-std::vector<T> read_image(const std::string& path, int width, int height,
-                          const std::vector<std::string>& channels, oiio::TypeDesc type) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError("", "missing: the material folder is incomplete", path);
-  auto in = oiio::ImageInput::open(path);
-  if (!in) throw InputError("", "cannot read: " + oiio::geterror(), path);
-  const oiio::ImageSpec& spec = in->spec();
-  if (spec.width != width || spec.height != height || spec.depth != 1)
-    throw InputError("", "is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-                             " pixels; the manifest says " + std::to_string(width) + " x " +
-                             std::to_string(height),
-                     path);
-  if (spec.nchannels != int(channels.size()))
-    throw InputError("", "has " + std::to_string(spec.nchannels) + " channels; the manifest's " +
-                             "max_rank gives " + std::to_string(channels.size()),
-                     path);
-  // Channels by name: the file may store them in any order.
-  std::vector<int> from(channels.size(), -1);
-  for (size_t c = 0; c < channels.size(); ++c) {
-    for (int f = 0; f < spec.nchannels; ++f)
-      if (spec.channelnames[f] == channels[c]) from[c] = f;
-    if (from[c] < 0) throw InputError("", "has no channel \"" + channels[c] + "\"", path);
-  }
-  std::vector<T> file(size_t(width) * size_t(height) * channels.size());
-  if (!in->read_image(0, 0, 0, spec.nchannels, type, file.data())) {
-    std::string why = in->geterror();
-    throw InputError("", "cannot read: " + (why.empty() ? std::string("corrupt or truncated") : why),
-                     path);
-  }
-  std::vector<T> data(file.size());
-  const size_t nc = channels.size();
-  for (size_t p = 0; p < size_t(width) * size_t(height); ++p)
-    for (size_t c = 0; c < nc; ++c) data[p * nc + c] = file[p * nc + size_t(from[c])];
-  for (const T& x : data)
-    if (!std::isfinite(float(x))) throw InputError("", "holds a value that is not finite", path);
-  return data;
+/// What the reader expects of a material image, and how its errors read.
+DataImageExpect expect(int width, int height, std::vector<std::string> channels) {
+  DataImageExpect want;
+  want.width = width;
+  want.height = height;
+  want.channels = std::move(channels);
+  want.finite = true;
+  want.missing = "missing: the material folder is incomplete";
+  want.channels_from = "the manifest's max_rank gives " + std::to_string(want.channels.size());
+  return want;
 }
 
 json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
@@ -124,15 +65,14 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   json j;
   j["format"] = k_material_format_name;
   j["version"] = k_material_format_version;
-  j["cloth"] = {{"name", info.cloth_name}, {"hash", info.cloth_hash}, {"source", info.source}};
+  j["cloth"] = {{"name", info.cloth_name}, {"hash", hex16(m.cloth_hash)}, {"source", info.source}};
   j["repeat_mm"] = {m.repeat_mm.x, m.repeat_mm.y, m.repeat_mm.z};
   j["texels"] = s.texels;
   j["levels"] = m.levels();
   j["directions"] = s.directions;
   j["light_directions"] = s.light_directions;
   j["direction_map"] = "hemi-octahedral";
-  j["light_direction_map"] =
-      s.light_map == DirectionMap::HemiOctahedralHorizon ? "hemi-octahedral-horizon" : "hemi-octahedral";
+  j["light_direction_map"] = enum_name(k_light_map_names, s.light_map);
   j["spp"] = s.spp;
   j["max_error"] = s.max_error;
   j["field_supersample"] = s.field_supersample;
@@ -140,10 +80,10 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["seed"] = s.seed;
   j["optics"] = {{"depth_scale", o.depth_scale},
                  {"extinction_per_mm", o.extinction_per_mm},
-                 {"shading", shading_name(o.shading)},
+                 {"shading", enum_name(k_shading_names, o.shading)},
                  {"isotropic_albedo", {o.isotropic_albedo.x, o.isotropic_albedo.y,
                                        o.isotropic_albedo.z}},
-                 {"fiber_model", fiber_model_name(o.fiber_model)},
+                 {"fiber_model", enum_name(k_fiber_model_names, o.fiber_model)},
                  {"fiber_samples", o.fiber_samples},
                  {"fiber_seed", o.fiber_seed},
                  {"step_cells", o.step_cells},
@@ -165,115 +105,45 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
                {"fiber_evaluations", info.stats.fiber_evaluations}};
   return j;
 }
-}  // namespace
 
-uint64_t material_uncompressed_bytes(const ClothMaterial& m) {
-  uint64_t bytes = uint64_t(m.view_count()) * m.light_count() * std::max(1, m.max_rank) * 4;
-  for (int l = 0; l < m.levels(); ++l)
-    bytes += uint64_t(m.view_count()) * m.level_side(l) * m.level_side(l) *
-             (1 + 3 * uint64_t(m.max_rank)) * 2;
-  return bytes;
-}
-
-bool is_material_folder(const std::string& dir) {
-  std::error_code ec;
-  const fs::path p = fs::path(dir) / k_manifest;
-  if (!fs::is_regular_file(p, ec)) return false;
-  try {
-    const json j = parse_json_text(read_text_file(p.string(), "a JSON file"), p.string());
-    return j.is_object() && j.contains("format") && j["format"] == k_material_format_name;
-  } catch (const InputError&) {
-    return false;
-  }
-}
-
-// About 60 lines: the atlas layout written out, then the swap.
-void write_material(const std::string& dir, const ClothMaterial& m, const MaterialInfo& info) {
-  const FolderSiblings names = folder_siblings(dir);
-  const fs::path temp_dir(names.temp_dir);
-  std::error_code ec;
-  {
-    const fs::path final_dir(names.final_dir);
-    if (fs::exists(final_dir, ec)) {
-      if (!fs::is_directory(final_dir, ec)) throw InputError("", "exists and is not a folder", dir);
-      if (!fs::is_empty(final_dir, ec) && !fs::exists(final_dir / k_manifest, ec))
-        throw InputError("", "exists and is not a material folder (no manifest.json); not "
-                             "replacing it", dir);
-    }
-  }
-  // A disk too small for the images is refused before anything is written.
-  const fs::path parent = fs::absolute(fs::path(names.final_dir)).parent_path();
-  const fs::space_info space = fs::space(parent, ec);
-  const uint64_t need = material_uncompressed_bytes(m);
-  if (!ec && space.available < need)
-    throw InputError("", "needs up to " + std::to_string(need >> 20) + " MiB and the disk has " +
-                             std::to_string(space.available >> 20) + " MiB free",
-                     dir);
-  fs::remove_all(temp_dir, ec);
-  UnfinishedOutput unfinished(temp_dir.string());
-  fs::create_directories(temp_dir, ec);
-  if (ec)
-    throw InputError("", "cannot create the temporary folder " + temp_dir.string() + ": " +
-                             ec.message(),
-                     dir);
-  try {
-    const int K = m.settings.directions;
-    const std::vector<std::string> channels = level_channels(m.max_rank);
-    const size_t nc = channels.size();
-    for (int l = 0; l < m.levels(); ++l) {
-      const int side = m.level_side(l);
-      const int width = K * side, height = 2 * K * side;
-      std::vector<Imath::half> pixels(size_t(width) * height * nc);
-      const size_t texels = size_t(side) * side;
-      for (int v = 0; v < m.view_count(); ++v)
-        for (int y = 0; y < side; ++y)
-          for (int x = 0; x < side; ++x) {
-            const size_t t = size_t(y) * side + x;
-            Imath::half* out = &pixels[atlas_pixel(v, x, y, side, K) * nc];
-            out[0] = m.alpha[l][size_t(v) * texels + t];
-            const V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
-            for (int k = 0; k < m.max_rank; ++k)
-              out[1 + 3 * k] = c[k].x, out[2 + 3 * k] = c[k].y, out[3 + 3 * k] = c[k].z;
-          }
-      write_image((temp_dir / level_file(l)).string(), width, height, channels,
-                  oiio::TypeDesc::HALF, pixels.data());
-    }
-    std::vector<std::string> light_channels;
-    for (int k = 0; k < std::max(1, m.max_rank); ++k) light_channels.push_back(component_name(k));
-    std::vector<float> lights(size_t(m.light_count()) * m.view_count() * light_channels.size(), 0.0f);
-    for (int v = 0; v < m.view_count(); ++v)
-      for (int n = 0; n < m.light_count(); ++n)
+/// Level `l`'s coefficient atlas, as written: alpha, then RGB per component.
+std::vector<Imath::half> level_pixels(const ClothMaterial& m, int l) {
+  const MaterialLayout layout = m.layout();
+  const size_t nc = 1 + 3 * size_t(m.max_rank);
+  const int side = layout.level_side(l);
+  const size_t texels = layout.level_texels(l);
+  std::vector<Imath::half> pixels(size_t(layout.atlas_width(l)) * layout.atlas_height(l) * nc);
+  for (int v = 0; v < m.view_count(); ++v)
+    for (int y = 0; y < side; ++y)
+      for (int x = 0; x < side; ++x) {
+        const size_t t = size_t(y) * side + x;
+        Imath::half* out = &pixels[layout.atlas_pixel(v, x, y, l) * nc];
+        out[0] = m.alpha[l][size_t(v) * texels + t];
+        const V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
         for (int k = 0; k < m.max_rank; ++k)
-          lights[(size_t(v) * m.light_count() + n) * light_channels.size() + k] =
-              m.light_factors[(size_t(v) * m.light_count() + n) * m.max_rank + k];
-    write_image((temp_dir / k_light_file).string(), m.light_count(), m.view_count(),
-                light_channels, oiio::TypeDesc::FLOAT, lights.data());
-    errno = 0;
-    std::ofstream f(temp_dir / k_manifest, std::ios::binary);
-    f << manifest_json(m, info).dump(2) << "\n";
-    f.close();
-    if (!f) throw InputError("", errno != 0 ? std::strerror(errno) : "write error", k_manifest);
-  } catch (const InputError& e) {
-    throw InputError("", "cannot write " + fs::path(e.file()).filename().string() + ": " +
-                             e.message() + "; nothing under this name was changed",
-                     dir);
-  }
-  publish_folder(unfinished, names, "material");
+          out[1 + 3 * k] = c[k].x, out[2 + 3 * k] = c[k].y, out[3 + 3 * k] = c[k].z;
+      }
+  return pixels;
 }
 
-// About 90 lines: every manifest field checked before any image is read.
-ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
-                            uint64_t memory_budget) {
-  const std::string manifest_path = (fs::path(dir) / k_manifest).string();
-  const json doc = parse_json_text(read_text_file(manifest_path, "a JSON file"), manifest_path);
-  const JsonObject top(doc, "", manifest_path);
-  auto need = [&](const char* key) {
-    if (!top.has(key)) top.fail(key, "is missing");
-  };
+/// The light factors' image: a row per view node, a pixel per light node.
+std::vector<float> light_pixels(const ClothMaterial& m) {
+  const size_t nc = light_channels(m.max_rank).size(), L = size_t(m.light_count());
+  std::vector<float> pixels(L * m.view_count() * nc, 0.0f);
+  for (int v = 0; v < m.view_count(); ++v)
+    for (size_t n = 0; n < L; ++n)
+      for (int k = 0; k < m.max_rank; ++k)
+        pixels[(size_t(v) * L + n) * nc + k] = m.light_factors[(size_t(v) * L + n) * m.max_rank + k];
+  return pixels;
+}
+
+/// Format and version, checked first: a manifest of another kind or version
+/// is refused before any of its fields is read.
+void check_format(const JsonObject& top) {
   for (const char* key : {"format", "version", "cloth", "repeat_mm", "texels", "levels",
                           "directions", "light_directions", "spp", "max_error", "seed", "optics",
                           "max_rank", "ranks", "errors", "files"})
-    need(key);
+    if (!top.has(key)) top.fail(key, "is missing");
   std::string format;
   top.read("format", format);
   if (format != k_material_format_name)
@@ -285,8 +155,10 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
     top.fail("version", "this material has format version " + std::to_string(version) +
                             "; this clothbake reads version " +
                             std::to_string(k_material_format_version));
-  ClothMaterial m;
-  MaterialSettings& s = m.settings;
+}
+
+MaterialSettings read_settings(const JsonObject& top, const std::string& manifest_path) {
+  MaterialSettings s;
   top.read("texels", s.texels);
   top.read("directions", s.directions);
   top.read("light_directions", s.light_directions);
@@ -294,38 +166,23 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
   top.read("max_error", s.max_error);
   top.read("seed", s.seed);
   top.read("field_supersample", s.field_supersample);
-  std::string light_map = "hemi-octahedral";
-  top.read("light_direction_map", light_map);
-  if (light_map == "hemi-octahedral-horizon") s.light_map = DirectionMap::HemiOctahedralHorizon;
-  else if (light_map == "hemi-octahedral") s.light_map = DirectionMap::HemiOctahedral;
-  else top.fail("light_direction_map", "must be \"hemi-octahedral-horizon\" or \"hemi-octahedral\"");
+  s.light_map = DirectionMap::HemiOctahedral;  // manifests older than the horizon map
+  read_enum(top, "light_direction_map", k_light_map_names, s.light_map);
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
   try {
     check_material_settings(s);
   } catch (const InputError& e) {
     throw InputError(e.field(), e.message(), manifest_path);
   }
-  top.read("repeat_mm", m.repeat_mm);
-  if (!(m.repeat_mm.x > 0 && m.repeat_mm.y > 0 && m.repeat_mm.z > 0))
-    top.fail("repeat_mm", "must be positive");
-  const JsonObject cloth = top.object("cloth");
-  cloth.read("name", info.cloth_name);
-  cloth.read("hash", info.cloth_hash);
-  cloth.read("source", info.source);
-  const JsonObject o = top.object("optics");
-  MaterialOptics& op = m.optics;
+  return s;
+}
+
+MaterialOptics read_optics(const JsonObject& o) {
+  MaterialOptics op;
   o.read("depth_scale", op.depth_scale);
   o.read("extinction_per_mm", op.extinction_per_mm);
-  std::string shading = "fiber", fiber_model = "table";
-  o.read("shading", shading);
-  o.read("fiber_model", fiber_model);
-  if (shading != "fiber" && shading != "isotropic")
-    o.fail(o.field("shading"), "must be \"fiber\" or \"isotropic\"");
-  op.shading = shading == "isotropic" ? ShadingMode::Isotropic : ShadingMode::Fiber;
-  if (fiber_model == "table") op.fiber_model = FiberModelKind::Table;
-  else if (fiber_model == "ellipsoid") op.fiber_model = FiberModelKind::Ellipsoid;
-  else if (fiber_model == "kajiya-kay") op.fiber_model = FiberModelKind::KajiyaKay;
-  else o.fail(o.field("fiber_model"), "unknown fibre model \"" + fiber_model + "\"");
+  read_enum(o, "shading", k_shading_names, op.shading);
+  read_enum(o, "fiber_model", k_fiber_model_names, op.fiber_model);
   o.read("isotropic_albedo", op.isotropic_albedo);
   o.read("fiber_samples", op.fiber_samples);
   o.read("fiber_seed", op.fiber_seed);
@@ -336,28 +193,25 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
     o.fail(o.field("depth_scale"), "must be positive");
   if (!(op.extinction_per_mm > 0.0f) || !std::isfinite(op.extinction_per_mm))
     o.fail(o.field("extinction_per_mm"), "must be positive");
-  m.view_grid.k = s.directions;
-  m.light_grid.k = s.light_directions;
-  m.light_grid.map = s.light_map;
+  return op;
+}
+
+/// max_rank (bounded by the light nodes and the memory budget, before
+/// anything is allocated), levels, and each view node's rank and error.
+void read_table_shape(const JsonObject& top, uint64_t memory_budget, ClothMaterial& m) {
   top.read("max_rank", m.max_rank);
   if (m.max_rank < 0 || m.max_rank > m.light_count())
     top.fail("max_rank", "must be in [0, " + std::to_string(m.light_count()) + "]");
+  const uint64_t bytes = m.layout().table_bytes(m.max_rank);
+  if (bytes > memory_budget)
+    top.fail("max_rank", "the table needs " + std::to_string(bytes >> 20) +
+                             " MiB in memory, over the budget of " +
+                             std::to_string(memory_budget >> 20) + " MiB");
   int levels = 0;
   top.read("levels", levels);
-  {
-    // In memory: per level and view node, RGB floats per component and an
-    // alpha (4/3 of level 0 over the pyramid), and the float light factors.
-    const double texels = double(s.texels) * double(s.texels) * 4.0 / 3.0;
-    const double bytes = double(m.view_count()) *
-                         (texels * (12.0 * m.max_rank + 4.0) + 4.0 * m.light_count() * m.max_rank);
-    if (bytes > double(memory_budget))
-      top.fail("max_rank", "the table needs " + std::to_string(uint64_t(bytes) >> 20) +
-                               " MiB in memory, over the budget of " +
-                               std::to_string(memory_budget >> 20) + " MiB");
-  }
   m.allocate();
   if (levels != m.levels())
-    top.fail("levels", std::to_string(s.texels) + " texels give " + std::to_string(m.levels()) +
+    top.fail("levels", std::to_string(m.texels()) + " texels give " + std::to_string(m.levels()) +
                            " levels, not " + std::to_string(levels));
   const json& ranks = top.raw("ranks");
   const json& errors = top.raw("errors");
@@ -373,36 +227,95 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
     m.rank[v] = ranks[v].get<int>();
     m.error[v] = errors[v].get<float>();
   }
-  // The images.
-  const int K = s.directions;
+}
+
+/// The level atlases and the light factors, into the allocated table.
+void read_images(const std::string& dir, ClothMaterial& m) {
+  const MaterialLayout layout = m.layout();
   const std::vector<std::string> channels = level_channels(m.max_rank);
   const size_t nc = channels.size();
   for (int l = 0; l < m.levels(); ++l) {
-    const int side = m.level_side(l);
-    const int width = K * side, height = 2 * K * side;
-    const std::vector<Imath::half> pixels = read_image<Imath::half>(
-        (fs::path(dir) / level_file(l)).string(), width, height, channels, oiio::TypeDesc::HALF);
-    const size_t texels = size_t(side) * side;
+    const int side = layout.level_side(l);
+    const std::vector<Imath::half> pixels =
+        read_data_image_half((fs::path(dir) / level_file(l)).string(),
+                             expect(layout.atlas_width(l), layout.atlas_height(l), channels));
+    const size_t texels = layout.level_texels(l);
     for (int v = 0; v < m.view_count(); ++v)
       for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) {
           const size_t t = size_t(y) * side + x;
-          const Imath::half* in = &pixels[atlas_pixel(v, x, y, side, K) * nc];
+          const Imath::half* in = &pixels[layout.atlas_pixel(v, x, y, l) * nc];
           m.alpha[l][size_t(v) * texels + t] = in[0];
           V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
           for (int k = 0; k < m.max_rank; ++k) c[k] = V3f(in[1 + 3 * k], in[2 + 3 * k], in[3 + 3 * k]);
         }
   }
-  std::vector<std::string> light_channels;
-  for (int k = 0; k < std::max(1, m.max_rank); ++k) light_channels.push_back(component_name(k));
-  const std::vector<float> lights =
-      read_image<float>((fs::path(dir) / k_light_file).string(), m.light_count(), m.view_count(),
-                        light_channels, oiio::TypeDesc::FLOAT);
+  const std::vector<std::string> lc = light_channels(m.max_rank);
+  const size_t L = size_t(m.light_count());
+  const std::vector<float> lights = read_data_image_float(
+      (fs::path(dir) / k_light_file).string(), expect(int(L), m.view_count(), lc));
   for (int v = 0; v < m.view_count(); ++v)
-    for (int n = 0; n < m.light_count(); ++n)
+    for (size_t n = 0; n < L; ++n)
       for (int k = 0; k < m.max_rank; ++k)
-        m.light_factors[(size_t(v) * m.light_count() + n) * m.max_rank + k] =
-            lights[(size_t(v) * m.light_count() + n) * light_channels.size() + k];
+        m.light_factors[(size_t(v) * L + n) * m.max_rank + k] =
+            lights[(size_t(v) * L + n) * lc.size() + k];
+}
+}  // namespace
+
+uint64_t material_uncompressed_bytes(const ClothMaterial& m) {
+  return m.layout().file_bytes(m.max_rank);
+}
+
+bool is_material_folder(const std::string& dir) {
+  std::error_code ec;
+  const fs::path p = fs::path(dir) / k_folder_manifest_name;
+  if (!fs::is_regular_file(p, ec)) return false;
+  try {
+    const json j = parse_json_text(read_text_file(p.string(), "a JSON file"), p.string());
+    return j.is_object() && j.contains("format") && j["format"] == k_material_format_name;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+void write_material(const std::string& dir, const ClothMaterial& m, const MaterialInfo& info) {
+  const MaterialLayout layout = m.layout();
+  write_folder(dir, "material", material_uncompressed_bytes(m), [&](const fs::path& temp_dir) {
+    const std::vector<std::string> channels = level_channels(m.max_rank);
+    for (int l = 0; l < m.levels(); ++l)
+      write_data_image((temp_dir / level_file(l)).string(), layout.atlas_width(l),
+                       layout.atlas_height(l), channels, level_pixels(m, l).data());
+    write_data_image((temp_dir / k_light_file).string(), m.light_count(), m.view_count(),
+                     light_channels(m.max_rank), light_pixels(m).data());
+    write_json_file((temp_dir / k_folder_manifest_name).string(), manifest_json(m, info));
+  });
+}
+
+// Every manifest field checked before any image is read.
+ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t memory_budget) {
+  const std::string manifest_path = (fs::path(dir) / k_folder_manifest_name).string();
+  const json doc = parse_json_text(read_text_file(manifest_path, "a JSON file"), manifest_path);
+  const JsonObject top(doc, "", manifest_path);
+  check_format(top);
+  ClothMaterial m;
+  m.settings = read_settings(top, manifest_path);
+  top.read("repeat_mm", m.repeat_mm);
+  if (!(m.repeat_mm.x > 0 && m.repeat_mm.y > 0 && m.repeat_mm.z > 0))
+    top.fail("repeat_mm", "must be positive");
+  const JsonObject cloth = top.object("cloth");
+  cloth.read("name", info.cloth_name);
+  std::string hash;
+  cloth.read("hash", hash);
+  const std::optional<uint64_t> hash_value = parse_hex16(hash);
+  if (!hash_value) cloth.fail(cloth.field("hash"), "must be 16 hex digits, got \"" + hash + "\"");
+  m.cloth_hash = *hash_value;
+  cloth.read("source", info.source);
+  m.optics = read_optics(top.object("optics"));
+  m.view_grid.k = m.settings.directions;
+  m.light_grid.k = m.settings.light_directions;
+  m.light_grid.map = m.settings.light_map;
+  read_table_shape(top, memory_budget, m);
+  read_images(dir, m);
   return m;
 }
 

@@ -18,9 +18,9 @@ inline constexpr int k_material_format_version = 1;
 
 /// What a material folder records besides the table.
 struct MaterialInfo {
-  std::string cloth_name;
-  std::string cloth_hash;  ///< the volume texture's content hash, 16 hex digits
+  std::string cloth_name;  ///< the scene object's name, or the spec file's stem
   std::string source;      ///< the spec or scene file it was baked from
+  // The cloth's hash is the material's own (ClothMaterial::cloth_hash).
   MaterialBakeStats stats;
   double seconds = 0.0;  ///< the bake's wall time
   int threads = 0;

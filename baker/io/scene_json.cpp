@@ -11,6 +11,7 @@
 #include "core/scene/scene_checks.h"
 #include "core/util/error.h"
 #include "io/cloth_spec_json.h"
+#include "io/enum_names.h"
 #include "io/json_reader.h"
 #include "io/light_json.h"
 #include "io/obj_reader.h"
@@ -53,22 +54,11 @@ fs::path relative_to(const std::string& scene_path, const std::string& rel) {
 }
 
 /// Maps the string at `key` onto an enum value, listing the allowed names on error.
-template <class E>
-void read_enum(const JsonObject& j, const char* key,
-               std::initializer_list<std::pair<const char*, E>> values, E& out) {
-  if (!j.has(key)) return;
-  std::string s;
-  j.read(key, s);
-  std::string list;
-  for (const auto& [name, value] : values) {
-    if (s == name) {
-      out = value;
-      return;
-    }
-    list += std::string(list.empty() ? "" : ", ") + name;
-  }
-  j.fail(j.field(key), "unknown value '" + s + "'; expected one of: " + list);
-}
+/// The camera's spellings (the shared ones are in io/enum_names.h).
+constexpr EnumNames<FovAxis, 2> k_fov_axis_names{{
+    {"horizontal", FovAxis::Horizontal},
+    {"vertical", FovAxis::Vertical},
+}};
 
 void require_non_negative(const JsonObject& j, const char* key, const V3f& v) {
   if (v.x < 0.0f || v.y < 0.0f || v.z < 0.0f)
@@ -103,8 +93,7 @@ PinholeCamera read_camera(const JsonObject& j) {
   j.read("look_at", camera.look_at_world);
   j.read("up", camera.up_world);
   j.read("fov_deg", camera.fov_deg);
-  read_enum(j, "fov_axis", {{"horizontal", FovAxis::Horizontal}, {"vertical", FovAxis::Vertical}},
-            camera.fov_axis);
+  read_enum(j, "fov_axis", k_fov_axis_names, camera.fov_axis);
   if (j.has("resolution")) read_resolution(j, camera.width, camera.height);
 
   if (!(camera.fov_deg > 0.0f && camera.fov_deg < 180.0f))
@@ -128,18 +117,10 @@ RenderSettings read_render(const JsonObject& j) {
   RenderSettings s;
   j.read("spp", s.spp);
   j.read("step_cells", s.step_cells);
-  read_enum(j, "fiber_model",
-            {{"ellipsoid", FiberModelKind::Ellipsoid},
-             {"table", FiberModelKind::Table},
-             {"kajiya-kay", FiberModelKind::KajiyaKay}},
-            s.fiber_model);
+  read_enum(j, "fiber_model", k_fiber_model_names, s.fiber_model);
   j.read("fiber_samples", s.fiber_samples);
-  read_enum(
-      j, "transmittance",
-      {{"shadow-march", TransmittanceMode::ShadowMarch}, {"cached", TransmittanceMode::Cached}},
-      s.transmittance);
-  read_enum(j, "shading", {{"fiber", ShadingMode::Fiber}, {"isotropic", ShadingMode::Isotropic}},
-            s.shading);
+  read_enum(j, "transmittance", k_transmittance_names, s.transmittance);
+  read_enum(j, "shading", k_shading_names, s.shading);
   j.read("cutoff", s.cutoff);
   j.read("seed", s.seed);
   j.read("light_roulette", s.light_roulette);

@@ -68,3 +68,17 @@ def test_folder_tags_are_the_programs():
     old = re.search(r'k_folder_old_tag = "([^"]+)"', text).group(1)
     assert (defaults.FOLDER_TEMP_TAG, defaults.FOLDER_OLD_TAG) == (temp, old)
     assert defaults.folder_siblings("/a/bake", 12) == ("/a/bake.tmp-12", "/a/bake.old-12")
+
+
+def test_depth_scale_tolerance_is_the_programs():
+    """Wherever the program's header states it (found by name, as the
+    baker's files may move)."""
+    found = []
+    for folder, _, files in os.walk(os.path.join(ROOT, "baker")):
+        for name in files:
+            if name.endswith(".h"):
+                with open(os.path.join(folder, name), encoding="utf-8") as f:
+                    m = re.search(r"\bk_depth_scale_tolerance = ([0-9.]+)f?;", f.read())
+                if m:
+                    found.append(float(m.group(1)))
+    assert found == [defaults.DEPTH_SCALE_TOLERANCE]

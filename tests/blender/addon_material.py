@@ -61,7 +61,8 @@ def main():
         check(hasattr(bpy.types, f"CLOTHBAKE_OT_{op}"), f"operator clothbake.{op} registered")
     check(hasattr(bpy.types, "CLOTHBAKE_PT_material"), "Material panel registered")
     from clothbake.core.defaults import MATERIAL_DEFAULTS
-    from clothbake.blender import operators
+    from clothbake.blender import operators_material
+    from clothbake.core import program
     scene = bpy.context.scene
     settings = scene.clothbake
     got = {"texels": settings.material_texels, "directions": settings.material_directions,
@@ -69,7 +70,7 @@ def main():
            "max_error": round(settings.material_max_error, 6)}
     check(got == MATERIAL_DEFAULTS and settings.material_route == "exact",
           f"Material defaults are the program's: {got}, route {settings.material_route}")
-    m = operators._PROGRESS.match("material  42% 1.3s")
+    m = program.PROGRESS.match("material  42% 1.3s")
     check(m is not None and m.group(1) == "42", "material progress line parsed")
 
     # A new user's scene: the default cube, a plane made a cloth (twill).
@@ -114,7 +115,8 @@ def main():
     seconds = time.perf_counter() - t0
     check(result == {"FINISHED"} and settings.material_estimate.startswith("about ") and
           "MiB" in settings.material_estimate and
-          operators.material_estimate_is_current(bpy.context) and not os.path.exists(folder),
+          operators_material.material_estimate_is_current(bpy.context) and
+          not os.path.exists(folder),
           f"Estimate shows '{settings.material_estimate}' in {seconds:.1f} s and writes no "
           "material")
 
@@ -168,17 +170,17 @@ def main():
     for target, existing in ((os.path.join(TMP, "killed_material"), False), (folder, True)):
         settings.material_dir = target
         before = folder_hash(target) if existing else None
-        args, out = operators._material_command(bpy.context)
+        args, out = operators_material.material_command(bpy.context)
         proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                 stdin=subprocess.DEVNULL, text=True,
                                 env=dict(os.environ, CLOTHBAKE_PROGRESS="lines"))
         seen = ""
         for line in proc.stderr:
-            m = operators._PROGRESS.match(line)
+            m = program.PROGRESS.match(line)
             if m and int(m.group(1)) >= 5:
                 seen = line.strip()
                 break
-        operators.kill_job(proc, out)
+        program.kill_job(proc, out)
         parent = os.path.dirname(target)
         left = [n for n in os.listdir(parent)
                 if n.startswith(os.path.basename(target) + ".") and not n.endswith(".scene")]

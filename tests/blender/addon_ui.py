@@ -58,14 +58,15 @@ def main():
     check(hasattr(bpy.types, "CLOTHBAKE_PT_object"), "panel registered")
     check(hasattr(bpy.types.Object, "clothbake") and hasattr(bpy.types.Scene, "clothbake"),
           "object and scene settings registered")
-    from clothbake.blender import operators, panels
+    from clothbake.blender import panels
+    from clothbake.core import program
     check(panels._menu_import in bpy.types.TOPBAR_MT_file_import.draw._draw_funcs and
           panels._menu_export in bpy.types.TOPBAR_MT_file_export.draw._draw_funcs,
           "File > Import / Export entries")
-    m = operators._PROGRESS.match("bake  42% 1.3s")
+    m = program.PROGRESS.match("bake  42% 1.3s")
     check(m is not None and m.group(1) == "42", "progress line parsed")
-    check(operators._program_error(["bake  10% 0.1s", "clothbake: error: a.json: b: bad"],
-                                   "bake", 1) == "a.json: b: bad", "program error message kept")
+    check(program.program_error(["bake  10% 0.1s", "clothbake: error: a.json: b: bad"],
+                                "bake", 1) == "a.json: b: bad", "program error message kept")
 
     from clothbake.core import scene_export
     from clothbake.core.obj import read_obj
@@ -136,7 +137,7 @@ def main():
     settings.directions, settings.texels, settings.bake_spp = 2, 4, 1
     # Estimate before the bake (issue 13): the program's plan for exactly
     # these settings, shown in the panel; its march samples are the bake's.
-    from clothbake.blender.operators import estimate_is_current
+    from clothbake.blender.operators_bake import estimate_is_current
     check(not estimate_is_current(bpy.context), "slab: no estimate yet")
     result = bpy.ops.clothbake.estimate()
     check(result == {"FINISHED"} and settings.bake_estimate.startswith("about ") and
@@ -238,7 +239,7 @@ def main():
                  "import of a missing scene", filepath=os.path.join(TMP, "nope.json"))
 
     # -- no denoiser (issue 13): the panel's warning and its button ------------
-    from clothbake.blender.operators import denoiser_missing
+    from clothbake.blender.operators_compare import denoiser_missing
     import _cycles
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"

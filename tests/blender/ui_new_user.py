@@ -143,14 +143,14 @@ def apply_and_cycles():
     scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.samples = 16
-    from clothbake.blender.operators import denoiser_missing
+    from clothbake.blender.operators_compare import denoiser_missing
     import _cycles
     if not _cycles.with_openimagedenoise:
         check(denoiser_missing(scene), "4. the panel warns: no denoiser, F12 would fail")
 
 
 def denoising_off():
-    from clothbake.blender.operators import denoiser_missing
+    from clothbake.blender.operators_compare import denoiser_missing
     scene = bpy.context.scene
     if denoiser_missing(scene):
         check(in_properties(bpy.ops.clothbake.denoising_off) == {"FINISHED"} and
@@ -187,7 +187,7 @@ def compare():
 def long_bake_asks():
     """The old defaults (a full bake, 64 texels, 4 samples: about 8 minutes
     here) ask before they start: Bake opens a dialog and runs nothing."""
-    from clothbake.blender.operators import CLOTHBAKE_OT_bake
+    from clothbake.blender.operators_bake import CLOTHBAKE_OT_bake
     settings = bpy.context.scene.clothbake
     settings.adaptive = False
     settings.texels, settings.bake_spp = 64, 4

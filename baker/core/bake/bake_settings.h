@@ -3,7 +3,7 @@
 /// The ranges are stated here once: the core checks them (plan_bake), the
 /// manifest reader (io/lookup_manifest) and the command line (cli/cmd_bake)
 /// use them, and the add-on's tests read them from this file
-/// (tests/addon/test_limits.py).
+/// (tests/addon/test_defaults.py).
 
 #include <cstdint>
 

@@ -3,6 +3,7 @@
 #include <bit>
 #include <cstdio>
 
+#include "core/util/hex.h"
 #include "core/util/random.h"
 
 namespace clothbake {
@@ -113,9 +114,7 @@ std::string scene_fingerprint(const Scene& scene) {
   f.add(s.seed);
   f.add(s.light_roulette);  // changes the bake's bytes (not its expectation), as the seed does
 
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(f.value()));
-  return hex;
+  return hex16(f.value());
 }
 
 }  // namespace clothbake

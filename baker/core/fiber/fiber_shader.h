@@ -38,4 +38,11 @@ class FiberShader {
   std::shared_ptr<const FiberTable> m_table;
 };
 
+/// The fibre shader of cloth object `object` in a scene whose render seed is
+/// `render_seed`: the table is seeded by both, so every route that prepares
+/// that object (render, bake, material) builds the same table.
+std::unique_ptr<FiberShader> make_object_fiber_shader(FiberModelKind kind, float aspect,
+                                                      float exponent, int samples,
+                                                      uint64_t render_seed, uint64_t object);
+
 }  // namespace clothbake

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/march/cell_walk.h"
+#include "core/util/vector_math.h"
 
 namespace clothbake {
 
@@ -24,13 +25,6 @@ float optical_depth(const VolumeTexture& volume, const V3f& p, const V3f& d, flo
   return tau;
 }
 
-/// floor(g) wrapped into [0, n) and the fraction, for a grid coordinate g
-/// that may lie many repeats away: float arithmetic instead of two divisions.
-inline void wrap_floor(float g, int n, float inv_n, int& i, float& frac) {
-  const float gw = g - std::floor(g * inv_n) * float(n);
-  i = std::min(int(gw), n - 1);
-  frac = gw - float(i);
-}
 }  // namespace
 
 float shadow_transmittance(const VolumeTexture& volume, const V3f& p_texture,

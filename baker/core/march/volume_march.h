@@ -1,10 +1,10 @@
 #pragma once
 /// The view-ray march of Kimoto & Ohno section 5 (PAPER.md s.5) through one
-/// volume texture, in texture space: the cells along the ray are listed by a
-/// 3-D DDA (cell_walk.h), equally spaced samples are placed on the ray, and
-/// each sample with fibre in its cell is lit by every light through the cloth
-/// and shaded; samples are composited front to back with opacity
-/// 1 - exp(-sigma rho dt), so the sum stays bounded for any step.
+/// volume texture, in texture space: the skeleton of sample_march.h (cells by
+/// DDA, equally spaced samples, front-to-back compositing with opacity
+/// 1 - exp(-sigma rho dt), so the sum stays bounded for any step), each
+/// sample with fibre in its cell lit by every light through the cloth and
+/// shaded.
 
 #include <cstdint>
 #include <span>
@@ -14,6 +14,7 @@
 #include "core/fiber/fiber_shader.h"
 #include "core/march/light_transmittance.h"
 #include "core/march/march_settings.h"
+#include "core/march/sample_march.h"
 #include "core/texture/volume_texture.h"
 
 namespace clothbake {
@@ -30,26 +31,15 @@ struct MarchLight {
   float cache_depth_scale = 1.0f;  ///< TransmittanceCache::depth_scale_for(to_light_texture)
 };
 
-struct MarchInput {
-  const VolumeTexture* volume = nullptr;
+/// A view march of the scene's lights: the ray and its sampling
+/// (sample_march.h), and what each sample is lit and shaded by.
+struct MarchInput : SampleMarchInput {
   const FiberShader* shader = nullptr;
-  Imath::V3f entry_texture;  ///< where the ray enters the volume (top face, or bottom from behind)
-  Imath::V3f dir_texture;    ///< unit, texture space
-  float length_mm = 0.0f;    ///< length of the ray inside the volume
-  Imath::V3f to_eye_local;   ///< unit, local frame
-  Imath::V3f mm_per_world;   ///< the frame's scales: carry fibre tangents to the local frame
+  Imath::V3f to_eye_local;  ///< unit, local frame
+  Imath::V3f mm_per_world;  ///< the frame's scales: carry fibre tangents to the local frame
   std::span<const MarchLight> lights;
-  float extinction_per_mm = 40.0f;
-  float step_mm = 0.01f;
-  float cutoff = 1e-3f;
-  float jitter = 0.5f;  ///< first sample at jitter * step, jitter in [0, 1)
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
-  uint64_t seed = 0;  ///< for the direct ellipsoid model's jitter and the roulette
-  /// Russian roulette on the light: once the view transmittance in front of a
-  /// sample is below this, its lights are evaluated only with probability
-  /// transmittance / roulette (and then weighted by the inverse). 0: always.
-  float roulette = 0.0f;
 };
 
 struct MarchResult {

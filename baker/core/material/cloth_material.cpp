@@ -4,21 +4,25 @@
 #include <array>
 #include <cmath>
 
+#include "core/util/vector_math.h"
+
 namespace clothbake {
 
 namespace {
 using Imath::V3f;
 
-inline void wrap_floor(float g, int n, int& i, float& frac) {
-  const float gw = g - std::floor(g / float(n)) * float(n);
-  i = std::min(int(gw), n - 1);
-  frac = gw - float(i);
+/// Catmull-Rom weights of the four nodes around t in [0, 1).
+void catmull_rom_weights(float t, float* w) {
+  const float t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5f * (-t3 + 2.0f * t2 - t);
+  w[1] = 0.5f * (3.0f * t3 - 5.0f * t2 + 2.0f);
+  w[2] = 0.5f * (-3.0f * t3 + 4.0f * t2 + t);
+  w[3] = 0.5f * (t3 - t2);
 }
 }  // namespace
 
 void ClothMaterial::allocate() {
-  int n_levels = 1;
-  while ((settings.texels >> (n_levels - 1)) > 1) ++n_levels;
+  const int n_levels = layout().levels();
   coefficients.assign(size_t(n_levels), {});
   alpha.assign(size_t(n_levels), {});
   const size_t views = size_t(view_count());
@@ -79,8 +83,37 @@ float ClothMaterial::texel_alpha(int level, int view, int x, int y) const {
   return alpha[level][size_t(view) * side * side + size_t(y) * side + x];
 }
 
-// About 70 lines: the lookup's three interpolations (light nodes folded into
-// per-component weights first, then levels, texels and view nodes).
+ClothMaterial::LightNodes ClothMaterial::light_nodes(const Light& light) const {
+  const DirectionGrid::Footprint lf = light_grid.locate(light.to_light);
+  const int kl = light_grid.k;
+  LightNodes ln;
+  ln.irradiance = light.irradiance;
+  if (light_filter == LightFilter::Bilinear || kl < 3) {
+    ln.count = 4;
+    ln.node[0] = light_grid.node_index(lf.side, lf.i0, lf.j0);
+    ln.node[1] = light_grid.node_index(lf.side, lf.i1, lf.j0);
+    ln.node[2] = light_grid.node_index(lf.side, lf.i0, lf.j1);
+    ln.node[3] = light_grid.node_index(lf.side, lf.i1, lf.j1);
+    ln.w[0] = (1 - lf.fx) * (1 - lf.fy), ln.w[1] = lf.fx * (1 - lf.fy);
+    ln.w[2] = (1 - lf.fx) * lf.fy, ln.w[3] = lf.fx * lf.fy;
+    return ln;
+  }
+  // Catmull-Rom in i and j over nodes i0 - 1 .. i0 + 2, clamped to the grid.
+  float wx[4], wy[4];
+  catmull_rom_weights(lf.fx, wx);
+  catmull_rom_weights(lf.fy, wy);
+  ln.count = 16;
+  for (int b = 0; b < 4; ++b)
+    for (int a = 0; a < 4; ++a) {
+      const int i = std::clamp(lf.i0 - 1 + a, 0, kl - 1), j = std::clamp(lf.j0 - 1 + b, 0, kl - 1);
+      ln.node[b * 4 + a] = light_grid.node_index(lf.side, i, j);
+      ln.w[b * 4 + a] = wx[a] * wy[b];
+    }
+  return ln;
+}
+
+// The lookup's three interpolations: light nodes folded into per-component
+// weights first (light_nodes), then levels, texels and view nodes.
 MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels, const V3f& to_eye,
                                  std::span<const Light> lights) const {
   MarchResult out;
@@ -97,49 +130,12 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
   const float wv[4] = {(1 - vf.fx) * (1 - vf.fy), vf.fx * (1 - vf.fy), (1 - vf.fx) * vf.fy,
                        vf.fx * vf.fy};
   // Light nodes: each light's nodes and weights, shared by the views.
-  struct LightNodes {
-    int count = 0;
-    int node[16];
-    float w[16];
-    V3f irradiance;
-  };
-  std::array<LightNodes, 8> light_nodes;
+  std::array<LightNodes, k_max_march_lights> nodes;
   size_t n_lights = 0;
-  const int kl = light_grid.k;
   for (const Light& light : lights) {
-    if (n_lights == light_nodes.size()) break;
+    if (n_lights == nodes.size()) break;
     if (!(light.irradiance.x > 0 || light.irradiance.y > 0 || light.irradiance.z > 0)) continue;
-    const DirectionGrid::Footprint lf = light_grid.locate(light.to_light);
-    LightNodes& ln = light_nodes[n_lights++];
-    ln.irradiance = light.irradiance;
-    if (light_filter == LightFilter::Bilinear || kl < 3) {
-      ln.count = 4;
-      ln.node[0] = light_grid.node_index(lf.side, lf.i0, lf.j0);
-      ln.node[1] = light_grid.node_index(lf.side, lf.i1, lf.j0);
-      ln.node[2] = light_grid.node_index(lf.side, lf.i0, lf.j1);
-      ln.node[3] = light_grid.node_index(lf.side, lf.i1, lf.j1);
-      ln.w[0] = (1 - lf.fx) * (1 - lf.fy), ln.w[1] = lf.fx * (1 - lf.fy);
-      ln.w[2] = (1 - lf.fx) * lf.fy, ln.w[3] = lf.fx * lf.fy;
-      continue;
-    }
-    // Catmull-Rom in i and j over nodes i0 - 1 .. i0 + 2, clamped to the grid.
-    auto weights = [](float t, float* w) {
-      const float t2 = t * t, t3 = t2 * t;
-      w[0] = 0.5f * (-t3 + 2.0f * t2 - t);
-      w[1] = 0.5f * (3.0f * t3 - 5.0f * t2 + 2.0f);
-      w[2] = 0.5f * (-3.0f * t3 + 4.0f * t2 + t);
-      w[3] = 0.5f * (t3 - t2);
-    };
-    float wx[4], wy[4];
-    weights(lf.fx, wx);
-    weights(lf.fy, wy);
-    ln.count = 16;
-    for (int b = 0; b < 4; ++b)
-      for (int a = 0; a < 4; ++a) {
-        const int i = std::clamp(lf.i0 - 1 + a, 0, kl - 1), j = std::clamp(lf.j0 - 1 + b, 0, kl - 1);
-        ln.node[b * 4 + a] = light_grid.node_index(lf.side, i, j);
-        ln.w[b * 4 + a] = wx[a] * wy[b];
-      }
+    nodes[n_lights++] = light_nodes(light);
   }
   const size_t r = size_t(max_rank);
   const size_t n_nodes = size_t(light_count());
@@ -154,7 +150,7 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     for (size_t l = 0; l < n_lights; ++l) {
       // The light's nodes folded into one scalar per component first (a
       // contiguous loop over k), then its RGB irradiance applied once.
-      const LightNodes& ln = light_nodes[l];
+      const LightNodes& ln = nodes[l];
       float folded[k_max_components];
       std::fill(folded, folded + rk, 0.0f);
       for (int n = 0; n < ln.count; ++n) {
@@ -172,8 +168,9 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
       const int side = level_side(m);
       int xa, ya;
       float fx, fy;
-      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, side, xa, fx);
-      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, side, ya, fy);
+      const float inv_side = 1.0f / float(side);
+      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, side, inv_side, xa, fx);
+      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, side, inv_side, ya, fy);
       const int xb = xa + 1 == side ? 0 : xa + 1, yb = ya + 1 == side ? 0 : ya + 1;
       const size_t base = size_t(v) * size_t(side) * side;
       const size_t texel[4] = {base + size_t(ya) * side + xa, base + size_t(ya) * side + xb,

@@ -24,19 +24,23 @@
 
 #include "core/bake/direction_grid.h"
 #include "core/march/volume_march.h"
+#include "core/material/material_layout.h"
 #include "core/material/material_settings.h"
 
 namespace clothbake {
 
-/// Components a lookup handles (the rank of a view node): 2 KL^2 at most,
-/// KL <= 32 (material_settings.h).
-inline constexpr int k_max_components = 2 * 32 * 32;
+/// Components a lookup handles (the rank of a view node): at most the light
+/// nodes, 2 KL^2, KL <= k_max_material_directions (material_settings.h).
+inline constexpr int k_max_components = 2 * k_max_material_directions * k_max_material_directions;
 
 class ClothMaterial {
  public:
   MaterialSettings settings;  ///< what the bake was asked (texels, directions, spp, error, seed)
   MaterialOptics optics;      ///< what the appearance depends on besides the volume
   Imath::V3f repeat_mm{1, 1, 1};  ///< the volume texture's extent: x, y repeat, z thickness
+  /// The volume texture's content hash (VolumeTexture::content_hash): a
+  /// scene's cloth must hash the same to use the material.
+  uint64_t cloth_hash = 0;
   DirectionGrid view_grid, light_grid;
   int max_rank = 0;            ///< coefficient slots per texel (the largest rank)
   std::vector<int> rank;       ///< per view node
@@ -48,11 +52,13 @@ class ClothMaterial {
   /// [(view * light_nodes + node) * max_rank + k].
   std::vector<float> light_factors;
 
+  /// The table's shape (material_layout.h), from the settings' R, K and KL.
+  MaterialLayout layout() const { return MaterialLayout::of(settings); }
   int texels() const { return settings.texels; }
   int levels() const { return int(coefficients.size()); }
-  int level_side(int level) const { return std::max(1, settings.texels >> level); }
-  int view_count() const { return 2 * view_grid.nodes_per_side(); }
-  int light_count() const { return 2 * light_grid.nodes_per_side(); }
+  int level_side(int level) const { return layout().level_side(level); }
+  int view_count() const { return layout().view_count(); }
+  int light_count() const { return layout().light_count(); }
   /// Allocates the level arrays for the settings' R, K, KL and max_rank.
   void allocate();
   /// Recomputes levels 1.. from level 0 by 2 x 2 box averages.
@@ -79,6 +85,16 @@ class ClothMaterial {
   /// levels, bilinear between texels, view nodes and light nodes).
   MarchResult shade(float x_mm, float y_mm, float footprint_texels, const Imath::V3f& to_eye,
                     std::span<const Light> lights) const;
+
+  /// One light's light nodes and their weights (4 bilinear, or 16
+  /// Catmull-Rom), the same for every view node.
+  struct LightNodes {
+    int count = 0;
+    int node[16];
+    float w[16];
+    Imath::V3f irradiance;
+  };
+  LightNodes light_nodes(const Light& light) const;
 
   /// The stored radiance of texel (x, y) of `level` for view node `view` and
   /// light node `node` (what the factorisation reconstructs), and its alpha.

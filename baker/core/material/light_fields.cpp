@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/march/light_transmittance.h"
+#include "core/util/vector_math.h"
 
 namespace clothbake {
 
@@ -22,11 +23,6 @@ VolumeTexture refine(const VolumeTexture& volume, int s) {
   return fine;
 }
 
-inline void wrap_floor(float g, int n, int& i, float& frac) {
-  const float gw = g - std::floor(g / float(n)) * float(n);
-  i = std::min(int(gw), n - 1);
-  frac = gw - float(i);
-}
 }  // namespace
 
 size_t LightFieldSet::bytes_for(const VolumeTexture& volume, int lights, int s) {
@@ -67,8 +63,8 @@ LightFieldSet LightFieldSet::build(const VolumeTexture& volume, std::span<const 
 void LightFieldSet::depths(const V3f& p, float* depth) const {
   int xa, ya;
   float fx, fy;
-  wrap_floor(p.x / m_spacing.x - 0.5f, m_nx, xa, fx);
-  wrap_floor(p.y / m_spacing.y - 0.5f, m_ny, ya, fy);
+  wrap_floor(p.x / m_spacing.x - 0.5f, m_nx, 1.0f / float(m_nx), xa, fx);
+  wrap_floor(p.y / m_spacing.y - 0.5f, m_ny, 1.0f / float(m_ny), ya, fy);
   const int xb = xa + 1 == m_nx ? 0 : xa + 1, yb = ya + 1 == m_ny ? 0 : ya + 1;
   // z: the faces (kz = 0 at z = 0, kz = nz + 1 at the top) and the layer
   // centres between them (kz = k + 1 at (k + 0.5) dz).

@@ -10,7 +10,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "core/march/cell_walk.h"
+#include "core/march/sample_march.h"
 #include "core/util/error.h"
 #include "core/util/random.h"
 
@@ -87,17 +87,25 @@ void check_material_settings(const MaterialSettings& s) {
   range("light_directions", s.light_directions, k_min_material_directions,
         k_max_material_directions);
   range("spp", s.spp, k_min_material_spp, k_max_material_spp);
-  range("field_supersample", s.field_supersample, 1, 4);
-  if (s.fiber_tangent_nodes != 0) range("fiber_tangent_nodes", s.fiber_tangent_nodes, 2, 256);
+  range("field_supersample", s.field_supersample, k_min_field_supersample,
+        k_max_field_supersample);
+  if (s.fiber_tangent_nodes != 0)
+    range("fiber_tangent_nodes", s.fiber_tangent_nodes, k_min_fiber_tangent_nodes,
+          k_max_fiber_tangent_nodes);
   if (!(s.max_error >= k_min_material_error && s.max_error <= k_max_material_error))
     throw InputError("max_error", "must be in [0, 1], got " + std::to_string(s.max_error));
 }
 
-ClothMaterial material_layout(const VolumeTexture& volume, const MaterialOptics& optics,
-                              const MaterialSettings& settings) {
+bool tabulates_fiber(const MaterialSettings& settings, const MaterialOptics& optics) {
+  return settings.fiber_tangent_nodes > 0 && optics.shading == ShadingMode::Fiber;
+}
+
+ClothMaterial unbaked_material(const VolumeTexture& volume, const MaterialOptics& optics,
+                               const MaterialSettings& settings) {
   ClothMaterial m;
   m.settings = settings;
   m.optics = optics;
+  m.cloth_hash = volume.content_hash();
   m.repeat_mm = volume.size_mm();
   m.view_grid.k = settings.directions;
   m.light_grid.k = settings.light_directions;
@@ -132,16 +140,9 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
   in.dir_texture = -material.texture_from_material(to_eye);
   // The entry as ClothScene::shade_surface places it: the top-face point
   // from the front; from behind, the bottom face below it along the ray.
-  const V3f top(px, py, size.z);
-  const float cap = march_cap_mm(volume);
-  in.entry_texture = top;
-  if (in.dir_texture.z < 0.0f) {
-    in.length_mm = distance_to_exit(volume, top, in.dir_texture, cap);
-  } else {
-    in.length_mm = std::min(cap, size.z / in.dir_texture.z);
-    in.entry_texture = top - in.dir_texture * in.length_mm;
-    in.entry_texture.z = 0.0f;
-  }
+  const SlabEntry slab = slab_entry(volume, V3f(px, py, size.z), in.dir_texture);
+  in.entry_texture = slab.entry_texture;
+  in.length_mm = slab.length_mm;
   in.extinction_per_mm = o.extinction_per_mm;
   const V3f cell = volume.cell_size_mm();
   in.step_mm = o.step_cells * std::min({cell.x, cell.y, cell.z});
@@ -156,13 +157,93 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
 
 uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& s,
                                    int threads) {
-  const uint64_t lights = 2ull * s.light_directions * s.light_directions;
-  const uint64_t texels = uint64_t(s.texels) * s.texels;
-  return LightFieldSet::bytes_for(volume, int(lights), s.field_supersample) +
-         uint64_t(std::max(threads, 1)) * texels * 3 * lights * sizeof(float) * 2;
+  const MaterialLayout layout = MaterialLayout::of(s);
+  return LightFieldSet::bytes_for(volume, layout.light_count(), s.field_supersample) +
+         uint64_t(std::max(threads, 1)) * layout.view_matrix_bytes();
 }
 
-// About 90 lines: the bake's four steps in order.
+namespace {
+/// Per thread: the view node's fibre table and the march's work space.
+struct ViewLocal {
+  FiberLightTable fiber_table;
+  NodeMarchScratch scratch;
+  NodeMarchCounts counts;
+  std::vector<V3f> radiance;
+};
+
+/// Step 2 for one view node: every texel's spp jittered samples marched for
+/// all light nodes, averaged into the texels x RGB by light-node matrix
+/// (returned) and each texel's alpha (into `f`).
+Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTexture& volume,
+                                const FiberShader& shader, const LightFieldSet& fields,
+                                std::span<const V3f> light_local, int view, ViewLocal& local,
+                                ViewFactors& f) {
+  const MaterialSettings& settings = material.settings;
+  const int R = settings.texels, n_lights = int(light_local.size());
+  local.scratch.view_tag = uint32_t(view) + 1;
+  const bool tabulate = tabulates_fiber(settings, material.optics);
+  if (tabulate) {
+    local.fiber_table.build(shader, light_local, material.view_grid.bake_direction(view),
+                            settings.fiber_tangent_nodes);
+    local.counts.fiber_evaluations += uint64_t(settings.fiber_tangent_nodes) *
+                                      uint64_t(settings.fiber_tangent_nodes) * uint64_t(n_lights);
+  }
+  Eigen::MatrixXf m(Eigen::Index(R) * R * 3, n_lights);
+  f.alpha.assign(size_t(R) * R, 0.0f);
+  local.radiance.resize(size_t(n_lights));
+  const float inv_spp = 1.0f / float(settings.spp);
+  for (int y = 0; y < R; ++y)
+    for (int x = 0; x < R; ++x) {
+      std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
+      float see_through = 0.0f;
+      for (int k = 0; k < settings.spp; ++k) {
+        NodeMarchInput in =
+            material_sample(material, volume, shader, fields, light_local, view, x, y, k);
+        if (tabulate) in.fiber_table = &local.fiber_table;
+        see_through += in.length_mm > 0.0f
+                           ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
+                                                       local.counts)
+                           : 1.0f;
+      }
+      const Eigen::Index row = (Eigen::Index(y) * R + x) * 3;
+      for (int n = 0; n < n_lights; ++n) {
+        const V3f r = local.radiance[size_t(n)] * inv_spp;
+        m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+      }
+      f.alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
+    }
+  return m;
+}
+
+/// Step 4: the layout's largest rank, every view node's level 0 copied in,
+/// the mips.
+void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) {
+  material.max_rank = 0;
+  for (const ViewFactors& f : factors) material.max_rank = std::max(material.max_rank, f.rank);
+  material.allocate();
+  const size_t r = size_t(material.max_rank);
+  const size_t texels = material.layout().level_texels(0);
+  const int n_lights = material.light_count();
+  for (int v = 0; v < material.view_count(); ++v) {
+    const ViewFactors& f = factors[size_t(v)];
+    material.rank[v] = f.rank;
+    material.error[v] = f.error;
+    for (size_t t = 0; t < texels; ++t) {
+      material.alpha[0][size_t(v) * texels + t] = f.alpha[t];
+      for (int k = 0; k < f.rank; ++k) {
+        const float* c = &f.coefficients[(t * f.rank + k) * 3];
+        material.coefficients[0][(size_t(v) * texels + t) * r + k] = V3f(c[0], c[1], c[2]);
+      }
+    }
+    for (int n = 0; n < n_lights; ++n)
+      for (int k = 0; k < f.rank; ++k)
+        material.light_factors[(size_t(v) * n_lights + n) * r + k] = f.light[size_t(n) * f.rank + k];
+  }
+  material.build_mips();
+}
+}  // namespace
+
+// The bake's four steps in order (material_bake.h).
 ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shader,
                             const MaterialOptics& optics, const MaterialSettings& settings,
                             uint64_t memory_budget, const std::function<void(double)>& progress,
@@ -170,9 +251,8 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   check_material_settings(settings);
   if (!(optics.depth_scale > 0.0f) || !std::isfinite(optics.depth_scale))
     throw InputError("depth_scale", "must be positive and finite");
-  ClothMaterial material = material_layout(volume, optics, settings);
+  ClothMaterial material = unbaked_material(volume, optics, settings);
   const int n_views = material.view_count(), n_lights = material.light_count();
-  const int R = settings.texels;
 
   // Step 1: the light fields, one per light node, over the whole repeat.
   const std::vector<V3f> light_local = material_light_directions(material);
@@ -193,53 +273,16 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   // Steps 2 and 3, per view node: march every texel for all light nodes,
   // then factorise.
   std::vector<ViewFactors> factors(static_cast<size_t>(n_views));
-  struct Local {
-    FiberLightTable fiber_table;
-    NodeMarchScratch scratch;
-    NodeMarchCounts counts;
-    std::vector<V3f> radiance;
-  };
-  tbb::enumerable_thread_specific<Local> locals;
+  tbb::enumerable_thread_specific<ViewLocal> locals;
   std::atomic<uint64_t> table_bytes{0};
   std::atomic<int> views_done{0};
   std::mutex progress_mutex;
   std::atomic<bool> over_budget{false};
   tbb::parallel_for(0, n_views, [&](int view) {
     if (over_budget) return;
-    Local& local = locals.local();
-    local.scratch.view_tag = uint32_t(view) + 1;
-    const bool tabulate = settings.fiber_tangent_nodes > 0 && optics.shading == ShadingMode::Fiber;
-    if (tabulate) {
-      local.fiber_table.build(shader, light_local, material.view_grid.bake_direction(view),
-                              settings.fiber_tangent_nodes);
-      local.counts.fiber_evaluations += uint64_t(settings.fiber_tangent_nodes) *
-                                        uint64_t(settings.fiber_tangent_nodes) * uint64_t(n_lights);
-    }
-    Eigen::MatrixXf m(Eigen::Index(R) * R * 3, n_lights);
     ViewFactors& f = factors[size_t(view)];
-    f.alpha.assign(size_t(R) * R, 0.0f);
-    local.radiance.resize(size_t(n_lights));
-    const float inv_spp = 1.0f / float(settings.spp);
-    for (int y = 0; y < R; ++y)
-      for (int x = 0; x < R; ++x) {
-        std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
-        float see_through = 0.0f;
-        for (int k = 0; k < settings.spp; ++k) {
-          NodeMarchInput in =
-              material_sample(material, volume, shader, fields, light_local, view, x, y, k);
-          if (tabulate) in.fiber_table = &local.fiber_table;
-          see_through += in.length_mm > 0.0f
-                             ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
-                                                         local.counts)
-                             : 1.0f;
-        }
-        const Eigen::Index row = (Eigen::Index(y) * R + x) * 3;
-        for (int n = 0; n < n_lights; ++n) {
-          const V3f r = local.radiance[size_t(n)] * inv_spp;
-          m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
-        }
-        f.alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
-      }
+    const Eigen::MatrixXf m = march_view_node(material, volume, shader, fields, light_local, view,
+                                              locals.local(), f);
     factorise(m, settings.max_error, f);
     const uint64_t bytes =
         table_bytes += (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
@@ -255,35 +298,14 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
                                    std::to_string(memory_budget >> 20) +
                                    " MiB; raise --max-error, lower --texels or --directions, or "
                                    "raise --memory");
-
-  // Step 4: the layout's largest rank, level 0 copied in, the mips.
-  material.max_rank = 0;
-  for (const ViewFactors& f : factors) material.max_rank = std::max(material.max_rank, f.rank);
-  material.allocate();
-  const size_t r = size_t(material.max_rank);
-  const size_t texels = size_t(R) * R;
-  for (int v = 0; v < n_views; ++v) {
-    const ViewFactors& f = factors[size_t(v)];
-    material.rank[v] = f.rank;
-    material.error[v] = f.error;
-    for (size_t t = 0; t < texels; ++t) {
-      material.alpha[0][size_t(v) * texels + t] = f.alpha[t];
-      for (int k = 0; k < f.rank; ++k) {
-        const float* c = &f.coefficients[(t * f.rank + k) * 3];
-        material.coefficients[0][(size_t(v) * texels + t) * r + k] = V3f(c[0], c[1], c[2]);
-      }
-    }
-    for (int n = 0; n < n_lights; ++n)
-      for (int k = 0; k < f.rank; ++k)
-        material.light_factors[(size_t(v) * n_lights + n) * r + k] = f.light[size_t(n) * f.rank + k];
-  }
-  material.build_mips();
+  assemble(factors, material);
   if (stats) {
     *stats = MaterialBakeStats{};
-    for (const Local& l : locals) {
+    for (const ViewLocal& l : locals) {
       stats->march_samples += l.counts.samples;
       stats->fiber_evaluations += l.counts.fiber_evaluations;
     }
+    const size_t texels = material.layout().level_texels(0);
     stats->rays = uint64_t(n_views) * texels * uint64_t(settings.spp);
     stats->field_bytes = fields.bytes();
     stats->uncompressed_values = double(n_views) * double(texels) * n_lights * 3.0;

@@ -60,10 +60,14 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
 /// The light nodes' bake directions in the material's frame.
 std::vector<Imath::V3f> material_light_directions(const ClothMaterial& material);
 
-/// A material with the settings' grids and no table: the layout
-/// bake_material fills.
-ClothMaterial material_layout(const VolumeTexture& volume, const MaterialOptics& optics,
-                              const MaterialSettings& settings);
+/// A material with the settings' grids, the volume's extent and hash, and
+/// no table: what bake_material fills.
+ClothMaterial unbaked_material(const VolumeTexture& volume, const MaterialOptics& optics,
+                               const MaterialSettings& settings);
+
+/// Whether the bake tabulates the fibre response per view node
+/// (FiberLightTable) rather than evaluating the model per cell.
+bool tabulates_fiber(const MaterialSettings& settings, const MaterialOptics& optics);
 
 
 }  // namespace clothbake

@@ -2,7 +2,8 @@
 /// What a cloth-material bake is asked to compute (docs/material-format.md),
 /// what its appearance depends on besides the cloth spec, and the ranges each
 /// setting may take. The ranges are stated here once: the core checks them
-/// (bake_material), the manifest reader and the command line use them.
+/// (check_material_settings), the manifest reader, the command line and the
+/// add-on (tests/addon/test_material_defaults.py) use them.
 
 #include <cstdint>
 
@@ -18,6 +19,9 @@ inline constexpr int k_min_material_texels = 1, k_max_material_texels = 1024;  /
 inline constexpr int k_min_material_directions = 2, k_max_material_directions = 32;  ///< K, KL
 inline constexpr int k_min_material_spp = 1, k_max_material_spp = 1024;
 inline constexpr float k_min_material_error = 0.0f, k_max_material_error = 1.0f;
+inline constexpr int k_min_field_supersample = 1, k_max_field_supersample = 4;
+/// Tangent nodes per side of the fibre table (0 turns the table off).
+inline constexpr int k_min_fiber_tangent_nodes = 2, k_max_fiber_tangent_nodes = 256;
 
 /// The sampling and compression of the table.
 struct MaterialSettings {

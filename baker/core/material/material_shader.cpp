@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/util/hex.h"
 
 namespace clothbake {
 
@@ -56,6 +57,11 @@ void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial&
   const MaterialOptics have = object_optics(prepared, o);
   const MaterialOptics& want = material.optics;
   const std::string obj = "objects[" + std::to_string(o) + "]";
+  const uint64_t hash = prepared.volume(o).content_hash();
+  if (hash != material.cloth_hash)
+    throw InputError(obj + ".cloth", "is not the material's cloth: its volume texture hashes to " +
+                                         hex16(hash) + ", the material's to " +
+                                         hex16(material.cloth_hash));
   const float rel = std::fabs(have.depth_scale / want.depth_scale - 1.0f);
   if (!(rel <= k_depth_scale_tolerance))
     throw InputError(obj + ".thickness_world",

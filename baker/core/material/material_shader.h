@@ -23,8 +23,9 @@ MaterialOptics object_optics(const ClothScene& prepared, int object);
 /// path stays exact in texture space, docs/material-format.md).
 inline constexpr float k_depth_scale_tolerance = 0.05f;
 
-/// Throws InputError on the first field in which `object`'s optics differ from
-/// the material's (depth_scale as thickness_world, extinction_per_mm,
+/// Throws InputError on the first field in which `object` differs from what
+/// the material was baked from: its cloth (the volume texture's hash), then
+/// its optics (depth_scale as thickness_world, extinction_per_mm,
 /// render.shading, render.fiber_model), naming the scene field and both values.
 void check_material_fits(const ClothScene& prepared, int object, const ClothMaterial& material);
 

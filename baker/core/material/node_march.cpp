@@ -4,7 +4,6 @@
 #include <numbers>
 
 #include "core/bake/direction_grid.h"
-#include "core/march/cell_walk.h"
 #include "core/util/random.h"
 
 namespace clothbake {
@@ -51,9 +50,51 @@ void FiberLightTable::eval(const V3f& tangent, float* diffuse, float* specular) 
   }
 }
 
-// Kept parallel to march_view_ray (volume_march.cpp) line by line, so that
-// the two agree sample for sample; tests/core/material_test.cpp holds them
-// together.
+namespace {
+/// A cell's reflection toward every light node, per unit irradiance: from the
+/// tabulated response, from the per-cell cache (deterministic models), or
+/// from the fibre model itself (the direct ellipsoid, seeded per sample).
+void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, bool cacheable,
+                        V3f* reflect, NodeMarchScratch& scratch, NodeMarchCounts& counts,
+                        const Cell* cells) {
+  const size_t n_lights = in.to_light_local.size();
+  const V3f tangent_local =
+      V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
+  if (in.shading == ShadingMode::Isotropic) {
+    for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
+  } else if (in.fiber_table) {
+    scratch.diffuse.resize(n_lights);
+    scratch.specular.resize(n_lights);
+    in.fiber_table->eval(tangent_local, scratch.diffuse.data(), scratch.specular.data());
+    for (size_t l = 0; l < n_lights; ++l)
+      reflect[l] = cell.diffuse * scratch.diffuse[l] + V3f(cell.specular * scratch.specular[l]);
+  } else if (cacheable) {
+    const size_t c = size_t(&cell - cells);
+    float* r = scratch.response.data() + c * n_lights * 2;
+    if (scratch.tag[c] != scratch.view_tag) {
+      for (size_t l = 0; l < n_lights; ++l) {
+        const FiberResponse f =
+            in.shader->eval(tangent_local, in.to_light_local[l], in.to_eye_local, 0);
+        r[2 * l] = f.diffuse, r[2 * l + 1] = f.specular;
+      }
+      scratch.tag[c] = scratch.view_tag;
+      counts.fiber_evaluations += n_lights;
+    }
+    for (size_t l = 0; l < n_lights; ++l)
+      reflect[l] = cell.diffuse * r[2 * l] + V3f(cell.specular * r[2 * l + 1]);
+  } else {
+    for (size_t l = 0; l < n_lights; ++l) {
+      const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l],
+                                              in.to_eye_local, hash_key(in.seed, uint64_t(shaded)));
+      reflect[l] = cell.diffuse * f.diffuse + V3f(cell.specular * f.specular);
+    }
+    counts.fiber_evaluations += n_lights;
+  }
+}
+}  // namespace
+
+// The same march as march_view_ray (the skeleton of sample_march.h), so the
+// two agree sample for sample; tests/core/material/material_test.cpp checks it.
 float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMarchScratch& scratch,
                                 NodeMarchCounts& counts) {
   const VolumeTexture& volume = *in.volume;
@@ -70,75 +111,16 @@ float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMar
     scratch.tag.assign(volume.cell_count(), 0);
     scratch.response.assign(volume.cell_count() * n_lights * 2, 0.0f);
   }
-  float t_sample = in.jitter * in.step_mm;
-  float transmittance = 1.0f;
-  int shaded = 0;
-
-  auto shade_cell = [&](const Cell& cell, float, float t1) {
-    if (cell.density <= 0.0f) {
-      if (t_sample < t1) t_sample += std::ceil((t1 - t_sample) / in.step_mm) * in.step_mm;
-      return true;
-    }
-    const float alpha = 1.0f - std::exp(-in.extinction_per_mm * cell.density * in.step_mm);
-    if (t_sample >= t1) return true;
-    const V3f tangent_local =
-        V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
-    if (in.shading == ShadingMode::Isotropic) {
-      for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
-    } else if (in.fiber_table) {
-      scratch.diffuse.resize(n_lights);
-      scratch.specular.resize(n_lights);
-      in.fiber_table->eval(tangent_local, scratch.diffuse.data(), scratch.specular.data());
-      for (size_t l = 0; l < n_lights; ++l)
-        reflect[l] = cell.diffuse * scratch.diffuse[l] + V3f(cell.specular * scratch.specular[l]);
-    } else if (cacheable) {
-      const size_t c = size_t(&cell - cells);
-      float* r = scratch.response.data() + c * n_lights * 2;
-      if (scratch.tag[c] != scratch.view_tag) {
-        for (size_t l = 0; l < n_lights; ++l) {
-          const FiberResponse f =
-              in.shader->eval(tangent_local, in.to_light_local[l], in.to_eye_local, 0);
-          r[2 * l] = f.diffuse, r[2 * l + 1] = f.specular;
-        }
-        scratch.tag[c] = scratch.view_tag;
-        counts.fiber_evaluations += n_lights;
-      }
-      for (size_t l = 0; l < n_lights; ++l)
-        reflect[l] = cell.diffuse * r[2 * l] + V3f(cell.specular * r[2 * l + 1]);
-    } else {
-      for (size_t l = 0; l < n_lights; ++l) {
-        const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l],
-                                                in.to_eye_local, hash_key(in.seed, uint64_t(shaded)));
-        reflect[l] = cell.diffuse * f.diffuse + V3f(cell.specular * f.specular);
-      }
-      counts.fiber_evaluations += n_lights;
-    }
-    for (; t_sample < t1; t_sample += in.step_mm) {
-      const V3f p_texture = in.entry_texture + in.dir_texture * t_sample;
-      float light_weight = 1.0f;
-      if (transmittance < in.roulette) {
-        const float p = transmittance / in.roulette;
-        light_weight = unit_float(hash_key(in.seed, rng_stream::roulette, uint64_t(shaded))) < p
-                           ? 1.0f / p
-                           : 0.0f;
-      }
-      if (light_weight > 0.0f) {
-        in.fields->transmittances(p_texture, t_light);
-        const float w = transmittance * alpha * light_weight;
-        for (size_t l = 0; l < n_lights; ++l) radiance[l] += reflect[l] * (t_light[l] * w);
-      }
-      transmittance *= 1.0f - alpha;
-      ++shaded;
-      if (transmittance < in.cutoff) {
-        transmittance = 0.0f;
-        return false;
-      }
-    }
-    return true;
+  auto shade_cell = [&](const Cell& cell, int shaded) {
+    reflect_all_lights(in, cell, shaded, cacheable, reflect, scratch, counts, cells);
   };
-  walk_cells(volume, in.entry_texture, in.dir_texture, in.length_mm, shade_cell);
-  counts.samples += uint64_t(shaded);
-  return transmittance;
+  auto light_sample = [&](const V3f& p_texture, float weight) {
+    in.fields->transmittances(p_texture, t_light);
+    for (size_t l = 0; l < n_lights; ++l) radiance[l] += reflect[l] * (t_light[l] * weight);
+  };
+  const SampleMarchResult r = march_samples(in, shade_cell, light_sample);
+  counts.samples += uint64_t(r.samples);
+  return r.transmittance;
 }
 
 }  // namespace clothbake

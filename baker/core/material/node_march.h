@@ -1,6 +1,7 @@
 #pragma once
 /// The view march of volume_march.h serving every light node at once: one
-/// walk through the cells along the view ray, and at each sample the
+/// walk through the cells along the view ray (the skeleton both share,
+/// sample_march.h), and at each sample the
 /// transmittance toward all light nodes from their fields (light_fields.h)
 /// and each cell's fibre response toward all of them. Returns, per light
 /// node, the radiance toward the eye per unit irradiance from that node:
@@ -16,6 +17,7 @@
 
 #include "core/fiber/fiber_shader.h"
 #include "core/march/march_settings.h"
+#include "core/march/sample_march.h"
 #include "core/material/light_fields.h"
 #include "core/texture/volume_texture.h"
 
@@ -44,27 +46,19 @@ class FiberLightTable {
   std::vector<float> m_diffuse, m_specular;  // [(j * k + i) * lights + l]
 };
 
-struct NodeMarchInput {
-  const VolumeTexture* volume = nullptr;
+/// The view march of one view node for every light node: the ray and its
+/// sampling (sample_march.h), and what each sample is lit and shaded by.
+struct NodeMarchInput : SampleMarchInput {
   const FiberShader* shader = nullptr;
   const LightFieldSet* fields = nullptr;  ///< one field per light node
   /// The fibre response per light node by tangent (null: the fibre model
   /// itself, per cell and light node).
   const FiberLightTable* fiber_table = nullptr;
   std::span<const Imath::V3f> to_light_local;  ///< per light node, unit, the material's frame
-  Imath::V3f entry_texture;
-  Imath::V3f dir_texture;  ///< unit
-  float length_mm = 0.0f;
   Imath::V3f to_eye_local;  ///< unit, the material's frame
   float depth_scale = 1.0f;  ///< carries fibre tangents to the frame: (t.x, t.y, t.z / depth_scale)
-  float extinction_per_mm = 40.0f;
-  float step_mm = 0.01f;
-  float cutoff = 1e-3f;
-  float jitter = 0.5f;
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
-  uint64_t seed = 0;
-  float roulette = 0.0f;
 };
 
 /// Work space a thread reuses between marches (no allocation per ray).

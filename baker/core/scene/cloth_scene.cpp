@@ -40,9 +40,9 @@ ClothScene::ClothScene(const Scene& scene, uint64_t memory_budget_bytes,
     else
       obj.volume =
           std::make_shared<const VolumeTexture>(generate_volume(src.cloth, memory_budget_bytes));
-    obj.shader = std::make_unique<FiberShader>(rs.fiber_model, src.cloth.shading.fiber_aspect,
-                                               src.cloth.shading.exponent, rs.fiber_samples,
-                                               hash_key(rs.seed, rng_stream::fiber_table, o));
+    obj.shader = make_object_fiber_shader(rs.fiber_model, src.cloth.shading.fiber_aspect,
+                                          src.cloth.shading.exponent, rs.fiber_samples, rs.seed,
+                                          o);
     const V3f size = obj.volume->size_mm();
     obj.patches.reserve(src.mesh.quads.size());
     for (size_t q = 0; q < src.mesh.quads.size(); ++q)
@@ -108,26 +108,12 @@ MarchResult ClothScene::shade_surface(int o, int q, float s, float t, const V3f&
   const SurfaceFrame frame = patch.frame(s, t);
   const V3f p_world = patch.position_world(s, t);
   const V3f dir_texture = frame.texture_from_world(ray_dir_world).normalized();
-  const V3f top_texture = patch.texture_point(s, t);
-  const float cap = march_cap_mm(volume);
-  V3f entry_texture = top_texture;
-  float length_mm = 0.0f;
-  if (dir_texture.z < 0.0f) {  // from the front: down from the top face
-    length_mm = distance_to_exit(volume, top_texture, dir_texture, cap);
-  } else if (dir_texture.z > 0.0f) {  // from behind: up from the bottom face to the hit
-    length_mm = std::min(cap, volume.size_mm().z / dir_texture.z);
-    entry_texture = top_texture - dir_texture * length_mm;
-    // A grazing view from behind (within ~0.3 degrees of the horizon) is capped:
-    // the march must still start at the bottom face, the side the eye sees, not
-    // `cap` before the hit inside the volume, nearer the lit top (that was up to
-    // 5.8 x too bright, tests/core/stability_test.cpp). Only the far end is cut.
-    entry_texture.z = 0.0f;
-  }
+  const SlabEntry slab = slab_entry(volume, patch.texture_point(s, t), dir_texture);
   // Draw the random numbers whether or not the march runs, so one ray's
   // sequence does not depend on another's geometry.
   const float jitter = rng.next_float();
   const uint64_t seed = rng.next_u64();
-  if (length_mm <= 0.0f) return MarchResult{};
+  if (slab.length_mm <= 0.0f) return MarchResult{};
 
   MarchLight lights[k_max_march_lights];
   const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
@@ -148,9 +134,9 @@ MarchResult ClothScene::shade_surface(int o, int q, float s, float t, const V3f&
   MarchInput in;
   in.volume = &volume;
   in.shader = obj.shader.get();
-  in.entry_texture = entry_texture;
+  in.entry_texture = slab.entry_texture;
   in.dir_texture = dir_texture;
-  in.length_mm = length_mm;
+  in.length_mm = slab.length_mm;
   in.to_eye_local = frame.local_from_world(-ray_dir_world);
   in.mm_per_world = frame.mm_per_world;
   in.lights = std::span<const MarchLight>(lights, n_lights);

@@ -29,4 +29,13 @@ std::optional<CameraInCloth> camera_inside_cloth(const Scene& scene) {
   return std::nullopt;
 }
 
+int find_object(const Scene& scene, const std::string& name) {
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].name == name) return int(i);
+  if (!name.empty() && name.size() < 9 && name.find_first_not_of("0123456789") == std::string::npos &&
+      std::stoi(name) < int(scene.objects.size()))
+    return std::stoi(name);
+  return -1;
+}
+
 }  // namespace clothbake

@@ -2,6 +2,7 @@
 /// Checks across the parts of a scene that no single field shows wrong.
 
 #include <optional>
+#include <string>
 
 #include "core/scene/scene.h"
 
@@ -20,5 +21,9 @@ struct CameraInCloth {
 /// bilinear patch is approximated by the triangles (p0, p1, p2) and
 /// (p0, p2, p3).
 std::optional<CameraInCloth> camera_inside_cloth(const Scene& scene);
+
+/// The object a user names: the first named `name`, else `name` read as an
+/// index below the object count; -1 when neither.
+int find_object(const Scene& scene, const std::string& name);
 
 }  // namespace clothbake

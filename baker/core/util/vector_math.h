@@ -1,6 +1,7 @@
 #pragma once
-/// Small vector helpers shared by the fibre model's forms (and anything that
-/// must never turn a degenerate input into NaN).
+/// Small numeric helpers: vectors for the fibre model's forms (and anything
+/// that must never turn a degenerate input into NaN), and the wrap of a
+/// periodic grid's coordinate.
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,16 @@ inline bool normalize_safe(Imath::V3f& a) {
   const Imath::V3f s = a * (1.0f / m);
   a = s * (1.0f / std::sqrt(s.dot(s)));
   return true;
+}
+
+/// floor(g) wrapped into [0, n) and the fraction, for a coordinate g of a
+/// periodic grid of n points (the material's texels, the light fields, the
+/// transmittance caches) that may lie many repeats away. `inv_n` = 1 / n, so
+/// that the wrap costs a multiplication, not a division.
+inline void wrap_floor(float g, int n, float inv_n, int& i, float& frac) {
+  const float gw = g - std::floor(g * inv_n) * float(n);
+  i = std::min(int(gw), n - 1);
+  frac = gw - float(i);
 }
 
 }  // namespace clothbake

@@ -141,9 +141,7 @@ def _clamp(g, value, lo, hi, column):
     return g.math("MAXIMUM", g.math("MINIMUM", value, hi, column=column), lo, column=column)
 
 
-def build_group(name, k, quads, sides):
-    """The node group: Shader output of the lookup. sides = {"front": (atlas
-    Image, index Image, width, height) or None, "back": ...}."""
+def _new_group(name):
     group = bpy.data.node_groups.get(name)
     if group is not None:
         bpy.data.node_groups.remove(group)
@@ -151,12 +149,15 @@ def build_group(name, k, quads, sides):
     group.outputs.new("NodeSocketShader", "Shader")
     group.outputs.new("NodeSocketColor", "Color")
     group.outputs.new("NodeSocketFloat", "Alpha")
-    g = Graph(group)
+    return group
 
-    # 0. Inputs: the shading point, the unit direction toward the camera and
-    # the face's patch. The patch is in object space (patch_nodes), so the
-    # point and the direction move there for step 1; an affine map keeps the
-    # ray's crossing with the patch at the same (s, t).
+
+def _patch_inputs(g):
+    """Step 0, the inputs: (the shading point and the unit direction toward
+    the camera in object space, that direction in world space, the face's
+    patch attributes by name). The patch is in object space (patch_nodes),
+    so the point and the direction move there for step 1; an affine map
+    keeps the ray's crossing with the patch at the same (s, t)."""
     geometry = g.node("ShaderNodeNewGeometry", 0)
     point = _transform(g, geometry.outputs["Position"], "POINT", "WORLD", "OBJECT", 0)
     incoming_world = geometry.outputs["Incoming"]
@@ -165,10 +166,15 @@ def build_group(name, k, quads, sides):
     attr = {name: g.node("ShaderNodeAttribute", 0, attribute_name=ATTR_PREFIX + name,
                          attribute_type="GEOMETRY", label=name).outputs["Vector"]
             for name in FACE_ATTRS}
+    return point, incoming, incoming_world, attr
+
+
+def _patch_parameters(g, point, incoming, attr):
+    """Step 1: the patch parameters (s, t) where the view ray meets the
+    bilinear patch (clothbake.core.layout.patch_parameters, step for step),
+    and dP/ds at t."""
     e, f, gt = attr["e"], attr["f"], attr["g"]
 
-    # 1. Patch parameters (s, t) where the view ray meets the bilinear patch
-    # (clothbake.core.layout.patch_parameters, step for step).
     def cross_along(a, b, column):
         return g.vmath("DOT_PRODUCT", g.vmath("CROSS_PRODUCT", a, b, column=column), incoming,
                        column=column)
@@ -209,10 +215,15 @@ def build_group(name, k, quads, sides):
     d2 = perp(ps, 6)
     s = g.math("DIVIDE", g.vmath("DOT_PRODUCT", d1, d2, column=7),
                g.vmath("DOT_PRODUCT", d2, d2, column=7), column=7, clamp=True)
+    return s, t, ps
 
-    # 2. The local frame at (s, t) (layout.frame_from_attributes) and the
-    # view direction in it, in world space: the patch's derivatives move
-    # back there (angles are not kept by a non-uniform scale).
+
+def _view_in_frame(g, attr, s, t, ps, incoming_world):
+    """Step 2: the local frame at (s, t) (layout.frame_from_attributes) and
+    the view direction (x, y, z) in it, and its side. In world space: the
+    patch's derivatives move back there (angles are not kept by a
+    non-uniform scale)."""
+    f, gt = attr["f"], attr["g"]
     pt = _transform(g, g.vmath("ADD", f, g.scale(gt, s, 8), column=8), "VECTOR", "OBJECT",
                     "WORLD", 8)                                   # dP/dt at s
     ps = _transform(g, ps, "VECTOR", "OBJECT", "WORLD", 8)
@@ -231,8 +242,12 @@ def build_group(name, k, quads, sides):
     y = g.vmath("DOT_PRODUCT", incoming_world, bitangent, column=12)
     z = g.vmath("DOT_PRODUCT", incoming_world, normal, column=12)
     side = g.math("LESS_THAN", z, 0.0, column=13)
+    return x, y, z, side
 
-    # 3. Hemi-octahedral (u, v), grid position, nodes and weights.
+
+def _direction_nodes(g, k, x, y, z):
+    """Step 3: the hemi-octahedral (u, v), grid position, and (i0, fx, j0,
+    fy), the lower nodes and the weights of i0 + 1, j0 + 1."""
     l1 = g.math("ADD", g.math("ADD", g.math("ABSOLUTE", x, column=13),
                               g.math("ABSOLUTE", y, column=13), column=13),
                 g.math("ABSOLUTE", z, column=13), column=13)
@@ -251,9 +266,13 @@ def build_group(name, k, quads, sides):
 
     i0, fx = node_and_weight(u)
     j0, fy = node_and_weight(v)
+    return i0, fx, j0, fy
 
-    # 4. Per side and node: the square's origin from the index image (pixel
-    # (node, quad), Closest), then the atlas at origin + (s, t) size / (W, H).
+
+def _index_addresses(g, attr, k, quads, i0, j0):
+    """Step 4's index-image addresses, {(di, dj): uv of pixel (node, quad)}:
+    per side and node, the square's origin is read there (Closest), then
+    the atlas at origin + (s, t) size / (W, H) (_side_value)."""
     quad, _, _ = g.separate(attr["face"], column=16)
     index_v = g.math("MULTIPLY", g.math("ADD", quad, 0.5, column=17), 1.0 / max(1, quads),
                      column=17)
@@ -264,41 +283,42 @@ def build_group(name, k, quads, sides):
                                         float(k), i0, column=18), float(di) + 0.5, column=18)
             index_uv[di, dj] = g.combine(g.math("MULTIPLY", node, 1.0 / (k * k), column=19),
                                          index_v, column=19)
+    return index_uv
 
-    def side_value(entry, column):
-        if entry is None:
-            return (0.0, 0.0, 0.0, 1.0), 0.0
-        atlas, index, width, height = entry
-        colors, alphas = {}, {}
-        for key, vec in index_uv.items():
-            where = g.node("ShaderNodeTexImage", column, image=index, interpolation="Closest",
-                           extension="EXTEND", label="square origin")
-            g.feed(where.inputs["Vector"], vec)
-            x0, y0, size = g.separate(where.outputs["Color"], column=column + 1)
-            baked = g.math("GREATER_THAN", size, 0.5, column=column + 1)
-            uv = g.combine(
-                g.math("MULTIPLY_ADD", s, g.math("MULTIPLY", size, 1.0 / width, column=column + 1),
-                       x0, column=column + 1),
-                g.math("MULTIPLY_ADD", t, g.math("MULTIPLY", size, 1.0 / height,
-                                                 column=column + 1), y0, column=column + 1),
-                column=column + 1)
-            tex = g.node("ShaderNodeTexImage", column + 2, image=atlas, interpolation="Linear",
-                         extension="EXTEND")
-            g.feed(tex.inputs["Vector"], uv)
-            colors[key] = g.scale(tex.outputs["Color"], baked, column + 3)
-            alphas[key] = g.math("MULTIPLY", tex.outputs["Alpha"], baked, column=column + 3)
-        c0 = g.mix_color(colors[0, 0], colors[1, 0], fx, column + 4)
-        c1 = g.mix_color(colors[0, 1], colors[1, 1], fx, column + 4)
-        a0 = g.lerp(alphas[0, 0], alphas[1, 0], fx, column + 4)
-        a1 = g.lerp(alphas[0, 1], alphas[1, 1], fx, column + 4)
-        return g.mix_color(c0, c1, fy, column + 5), g.lerp(a0, a1, fy, column + 5)
 
-    front_c, front_a = side_value(sides.get("front"), 20)
-    back_c, back_a = side_value(sides.get("back"), 26)
-    color = g.mix_color(front_c, back_c, side, 32)
-    alpha = g.lerp(front_a, back_a, side, 32)
+def _side_value(g, entry, index_uv, s, t, fx, fy, column):
+    """Step 4 for one side: (colour, alpha) of its four nodes blended
+    bilinearly; transparent black when the side was not baked."""
+    if entry is None:
+        return (0.0, 0.0, 0.0, 1.0), 0.0
+    atlas, index, width, height = entry
+    colors, alphas = {}, {}
+    for key, vec in index_uv.items():
+        where = g.node("ShaderNodeTexImage", column, image=index, interpolation="Closest",
+                       extension="EXTEND", label="square origin")
+        g.feed(where.inputs["Vector"], vec)
+        x0, y0, size = g.separate(where.outputs["Color"], column=column + 1)
+        baked = g.math("GREATER_THAN", size, 0.5, column=column + 1)
+        uv = g.combine(
+            g.math("MULTIPLY_ADD", s, g.math("MULTIPLY", size, 1.0 / width, column=column + 1),
+                   x0, column=column + 1),
+            g.math("MULTIPLY_ADD", t, g.math("MULTIPLY", size, 1.0 / height,
+                                             column=column + 1), y0, column=column + 1),
+            column=column + 1)
+        tex = g.node("ShaderNodeTexImage", column + 2, image=atlas, interpolation="Linear",
+                     extension="EXTEND")
+        g.feed(tex.inputs["Vector"], uv)
+        colors[key] = g.scale(tex.outputs["Color"], baked, column + 3)
+        alphas[key] = g.math("MULTIPLY", tex.outputs["Alpha"], baked, column=column + 3)
+    c0 = g.mix_color(colors[0, 0], colors[1, 0], fx, column + 4)
+    c1 = g.mix_color(colors[0, 1], colors[1, 1], fx, column + 4)
+    a0 = g.lerp(alphas[0, 0], alphas[1, 0], fx, column + 4)
+    a1 = g.lerp(alphas[0, 1], alphas[1, 1], fx, column + 4)
+    return g.mix_color(c0, c1, fy, column + 5), g.lerp(a0, a1, fy, column + 5)
 
-    # 4. Premultiplied radiance over what is behind.
+
+def _shader(g, color, alpha):
+    """Step 5: premultiplied radiance over what is behind."""
     emission = g.node("ShaderNodeEmission", 33)
     g.feed(emission.inputs["Color"], color)
     emission.inputs["Strength"].default_value = 1.0
@@ -311,6 +331,24 @@ def build_group(name, k, quads, sides):
     g.links.new(add.outputs[0], out.inputs["Shader"])
     g.links.new(color, out.inputs["Color"])
     g.links.new(alpha, out.inputs["Alpha"])
+
+
+def build_group(name, k, quads, sides):
+    """The node group: Shader output of the lookup, the steps of the module
+    docstring in order. sides = {"front": (atlas Image, index Image, width,
+    height) or None, "back": ...}."""
+    group = _new_group(name)
+    g = Graph(group)
+    point, incoming, incoming_world, attr = _patch_inputs(g)
+    s, t, ps = _patch_parameters(g, point, incoming, attr)
+    x, y, z, side = _view_in_frame(g, attr, s, t, ps, incoming_world)
+    i0, fx, j0, fy = _direction_nodes(g, k, x, y, z)
+    index_uv = _index_addresses(g, attr, k, quads, i0, j0)
+    front_c, front_a = _side_value(g, sides.get("front"), index_uv, s, t, fx, fy, 20)
+    back_c, back_a = _side_value(g, sides.get("back"), index_uv, s, t, fx, fy, 26)
+    color = g.mix_color(front_c, back_c, side, 32)
+    alpha = g.lerp(front_a, back_a, side, 32)
+    _shader(g, color, alpha)
     return group
 
 

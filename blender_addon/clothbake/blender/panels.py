@@ -3,12 +3,14 @@ Import / Export menu entries."""
 import bpy
 
 from ..core.cloth_fields import DRAFT
-from .operators import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_apply_material, CLOTHBAKE_OT_bake,
-                        CLOTHBAKE_OT_bake_material, CLOTHBAKE_OT_compare,
-                        CLOTHBAKE_OT_denoising_off, CLOTHBAKE_OT_estimate,
-                        CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene,
-                        CLOTHBAKE_OT_material_estimate, denoiser_missing, estimate_is_current,
-                        material_estimate_is_current)
+from ..core.material_settings import MATERIAL_SETTINGS
+from .operators_bake import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_estimate,
+                             estimate_is_current)
+from .operators_compare import CLOTHBAKE_OT_compare, CLOTHBAKE_OT_denoising_off, denoiser_missing
+from .operators_job import ProgramJob
+from .operators_material import (CLOTHBAKE_OT_apply_material, CLOTHBAKE_OT_bake_material,
+                                 CLOTHBAKE_OT_material_estimate, material_estimate_is_current)
+from .operators_scene import CLOTHBAKE_OT_export_scene, CLOTHBAKE_OT_import_scene
 
 
 class _ObjectPanel:
@@ -89,6 +91,39 @@ class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
             layout.prop(cloth, "isotropic_albedo")
 
 
+def _split_column(layout):
+    """A column of labelled fields (label left, value right), as Blender's
+    own property panels draw them."""
+    col = layout.column()
+    col.use_property_split = True
+    col.use_property_decorate = False
+    return col
+
+
+def _estimate_row(col, current, estimate, operator):
+    """What a bake would cost, before it starts: the program's estimate for
+    exactly these settings, else the button that makes one."""
+    row = col.row(align=True)
+    if current:
+        row.label(text=estimate, icon="TIME")
+        row.operator(operator.bl_idname, text="", icon="FILE_REFRESH")
+    else:
+        row.operator(operator.bl_idname, text="Estimate time and size", icon="TIME")
+
+
+def _job_row(layout, bake, apply):
+    """The big row: the bake (greyed while any job of the program runs) and
+    its Apply. Returns (row, whether a job runs)."""
+    row = layout.row(align=True)
+    row.scale_y = 1.4
+    sub = row.row(align=True)
+    running = ProgramJob._running  # not the saved flag: a .blend may keep it
+    sub.enabled = not running
+    sub.operator(bake.bl_idname, icon="RENDER_STILL")
+    row.operator(apply.bl_idname, icon="MATERIAL")
+    return row, running
+
+
 class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
     bl_label = "Bake"
     bl_parent_id = "CLOTHBAKE_PT_object"
@@ -96,9 +131,7 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.clothbake
-        col = layout.column()
-        col.use_property_split = True
-        col.use_property_decorate = False
+        col = _split_column(layout)
         col.prop(settings, "scene_path")
         col.prop(settings, "bake_dir")
         col.prop(settings, "adaptive")
@@ -108,23 +141,10 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
         else:
             col.prop(settings, "texels")
         col.prop(settings, "bake_spp")
-        # What the bake would cost, before it starts: the program's estimate
-        # for exactly these settings, else the button that makes one.
-        row = col.row(align=True)
-        if estimate_is_current(context):
-            row.label(text=settings.bake_estimate, icon="TIME")
-            row.operator(CLOTHBAKE_OT_estimate.bl_idname, text="", icon="FILE_REFRESH")
-        else:
-            row.operator(CLOTHBAKE_OT_estimate.bl_idname, text="Estimate time and size",
-                         icon="TIME")
+        _estimate_row(col, estimate_is_current(context), settings.bake_estimate,
+                      CLOTHBAKE_OT_estimate)
         col.prop(settings, "compare_samples")
-        row = layout.row(align=True)
-        row.scale_y = 1.4
-        sub = row.row(align=True)
-        running = CLOTHBAKE_OT_bake._running  # not the saved flag: a .blend may keep it
-        sub.enabled = not running
-        sub.operator(CLOTHBAKE_OT_bake.bl_idname, icon="RENDER_STILL")
-        row.operator(CLOTHBAKE_OT_apply.bl_idname, icon="MATERIAL")
+        row, running = _job_row(layout, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_apply)
         row.operator(CLOTHBAKE_OT_compare.bl_idname, icon="IMAGE_REFERENCE")
         if running and settings.bake_running:
             layout.prop(settings, "bake_progress", text="Baking (Esc cancels)", slider=True)
@@ -151,30 +171,14 @@ class CLOTHBAKE_PT_material(_ObjectPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.clothbake
-        col = layout.column()
-        col.use_property_split = True
-        col.use_property_decorate = False
+        col = _split_column(layout)
         col.prop(settings, "material_dir")
-        col.prop(settings, "material_texels")
-        col.prop(settings, "material_directions")
-        col.prop(settings, "material_light_directions")
-        col.prop(settings, "material_spp")
-        col.prop(settings, "material_max_error")
+        for setting in MATERIAL_SETTINGS:
+            col.prop(settings, setting.prop)
         col.prop(settings, "material_route")
-        row = col.row(align=True)
-        if material_estimate_is_current(context):
-            row.label(text=settings.material_estimate, icon="TIME")
-            row.operator(CLOTHBAKE_OT_material_estimate.bl_idname, text="", icon="FILE_REFRESH")
-        else:
-            row.operator(CLOTHBAKE_OT_material_estimate.bl_idname, text="Estimate time and size",
-                         icon="TIME")
-        row = layout.row(align=True)
-        row.scale_y = 1.4
-        sub = row.row(align=True)
-        running = CLOTHBAKE_OT_bake._running  # any job of the program, not the saved flag
-        sub.enabled = not running
-        sub.operator(CLOTHBAKE_OT_bake_material.bl_idname, icon="RENDER_STILL")
-        row.operator(CLOTHBAKE_OT_apply_material.bl_idname, icon="MATERIAL")
+        _estimate_row(col, material_estimate_is_current(context), settings.material_estimate,
+                      CLOTHBAKE_OT_material_estimate)
+        _, running = _job_row(layout, CLOTHBAKE_OT_bake_material, CLOTHBAKE_OT_apply_material)
         if running and settings.material_running:
             layout.prop(settings, "material_progress", text="Baking material (Esc cancels)",
                         slider=True)

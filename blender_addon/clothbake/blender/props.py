@@ -16,10 +16,9 @@ import bpy
 
 from ..core import cloth_fields
 from ..core.errors import ClothbakeError
-from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, MATERIAL_DEFAULTS,
-                             MATERIAL_DIRECTIONS_RANGE, MATERIAL_ERROR_RANGE, MATERIAL_SPP_RANGE,
-                             MATERIAL_TEXELS_RANGE, RENDER_DEFAULTS, TEXELS_PER_PIXEL_MAX,
-                             TEXELS_RANGE)
+from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, RENDER_DEFAULTS,
+                             TEXELS_PER_PIXEL_MAX, TEXELS_RANGE)
+from ..core.material_settings import MATERIAL_SETTINGS
 from ..core.scene_export import FIBER_MODELS, SHADINGS, TRANSMITTANCES
 
 _loading = False  # true while fields are filled from a spec: not an edit
@@ -234,6 +233,19 @@ def _items(names):
     return [(n, n, "") for n in names]
 
 
+def _material_properties():
+    """{material_<name>: property} of core/material_settings.py's table."""
+    props = {}
+    for s in MATERIAL_SETTINGS:
+        lo, hi = s.value_range
+        kwargs = dict(name=s.label, default=s.default, min=lo, max=hi, description=s.description)
+        if s.kind is int:
+            props[s.prop] = bpy.props.IntProperty(**kwargs)
+        else:
+            props[s.prop] = bpy.props.FloatProperty(**kwargs, precision=s.precision, step=s.step)
+    return props
+
+
 class ClothbakeSceneSettings(bpy.types.PropertyGroup):
     """scene.clothbake: the scene file, the bake and the comparison."""
     scene_path: bpy.props.StringProperty(
@@ -302,25 +314,8 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
         description="Material folder Bake material writes and Apply material reads (empty: "
                     "SCENE_material beside the scene file, else BLEND_material beside the "
                     ".blend file)")
-    material_texels: bpy.props.IntProperty(
-        name="Texels", default=MATERIAL_DEFAULTS["texels"], min=MATERIAL_TEXELS_RANGE[0],
-        max=MATERIAL_TEXELS_RANGE[1],
-        description="Texels per side of one weave repeat (a power of 2)")
-    material_directions: bpy.props.IntProperty(
-        name="View directions", default=MATERIAL_DEFAULTS["directions"],
-        min=MATERIAL_DIRECTIONS_RANGE[0], max=MATERIAL_DIRECTIONS_RANGE[1],
-        description="View nodes per side of each hemisphere's grid")
-    material_light_directions: bpy.props.IntProperty(
-        name="Light directions", default=MATERIAL_DEFAULTS["light_directions"],
-        min=MATERIAL_DIRECTIONS_RANGE[0], max=MATERIAL_DIRECTIONS_RANGE[1],
-        description="Light nodes per side of each hemisphere's grid")
-    material_spp: bpy.props.IntProperty(
-        name="Samples per texel", default=MATERIAL_DEFAULTS["spp"], min=MATERIAL_SPP_RANGE[0],
-        max=MATERIAL_SPP_RANGE[1], description="Jittered marches per texel and view direction")
-    material_max_error: bpy.props.FloatProperty(
-        name="Max error", default=MATERIAL_DEFAULTS["max_error"], min=MATERIAL_ERROR_RANGE[0],
-        max=MATERIAL_ERROR_RANGE[1], precision=3, step=1,
-        description="Relative error the compression may leave per view direction (0 = exact)")
+    # texels, directions, light_directions, spp, max_error: from the one table.
+    __annotations__.update(_material_properties())
     material_route: bpy.props.EnumProperty(
         name="Route", default="exact",
         items=[("exact", "Exact", "The reference renderer's sum: emission and transparency, "

@@ -2,7 +2,8 @@
 import importlib
 
 # Modules that define CLASSES (and optionally register_extra/unregister_extra).
-_MODULES = ("prefs", "props", "operators", "panels")
+_MODULES = ("prefs", "props", "operators_scene", "operators_bake", "operators_compare",
+            "operators_material", "panels")
 
 
 def _modules():

@@ -1,10 +1,11 @@
 """What the add-on shares with the clothbake program, stated once on this
 side: the reference renderer's default settings, the ranges of the bake
-settings, the material bake's defaults and ranges, and the names of a
-folder output's temporary siblings. Each is stated once on the C++ side too
-(baker/core/scene/scene.h RenderSettings, baker/core/bake/bake_settings.h,
-baker/core/material/material_settings.h, baker/io/atomic_file.h), and
-tests/addon/test_defaults.py reads those headers and holds these to them.
+settings, the material bake's defaults and ranges, the depth-scale tolerance
+and the names of a folder output's temporary siblings. Each is stated once on
+the C++ side too (baker/core/scene/scene.h RenderSettings,
+baker/core/bake/bake_settings.h, baker/core/material/material_settings.h,
+material_shader.h, baker/io/atomic_file.h), and tests/addon/test_defaults.py
+and test_material_defaults.py read those headers and hold these to them.
 """
 
 # RenderSettings (baker/core/scene/scene.h), as a scene's "render" block
@@ -27,6 +28,10 @@ MATERIAL_TEXELS_RANGE = (1, 1024)
 MATERIAL_DIRECTIONS_RANGE = (2, 32)   # view and light directions
 MATERIAL_SPP_RANGE = (1, 1024)
 MATERIAL_ERROR_RANGE = (0.0, 1.0)
+# How far an object's depth scale may stray from the material's before the
+# weave is shaded at the material's thickness (k_depth_scale_tolerance,
+# baker/core/material/material_shader.h): a relative difference.
+DEPTH_SCALE_TOLERANCE = 0.05
 
 # A folder output (a bake) is written as NAME.tmp-PID and the folder it
 # replaces set aside as NAME.old-PID (baker/io/atomic_file.h).

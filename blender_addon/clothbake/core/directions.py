@@ -8,28 +8,56 @@ back (side 1, the same map with z mirrored).
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 HEMI_OCTAHEDRAL = "hemi-octahedral"
 POLAR = "polar"
 
 
 def hemi_oct_encode(d):
-    """(u, v) in [0, 1]^2 of a direction (a negative z is taken as its mirror)."""
-    x, y, z = d
-    norm = abs(x) + abs(y) + abs(z)
-    if not norm > 0.0:
-        return 0.5, 0.5
-    px, py = x / norm, y / norm
-    return (min(max((px + py + 1.0) * 0.5, 0.0), 1.0),
-            min(max((px - py + 1.0) * 0.5, 0.0), 1.0))
+    """(u, v) in [0, 1]^2 of directions d (a 3-tuple or an array (..., 3));
+    a negative z is taken as its mirror, the zero vector maps to the centre.
+    The one Python copy of the map: the lookup's tests and the material's
+    light grids (material_pack) both read it."""
+    d = np.asarray(d, dtype=float)
+    norm = np.abs(d).sum(-1)
+    norm = np.where(norm > 0, norm, 1.0)
+    px, py = d[..., 0] / norm, d[..., 1] / norm
+    return np.clip((px + py + 1) * 0.5, 0, 1), np.clip((px - py + 1) * 0.5, 0, 1)
 
 
 def hemi_oct_decode(u, v):
-    """Unit direction (z >= 0) of (u, v) in [0, 1]^2."""
-    a, b = 2.0 * u - 1.0, 2.0 * v - 1.0
+    """Unit directions (z >= 0), shape (..., 3), of (u, v) in [0, 1]^2."""
+    a, b = 2 * np.asarray(u, dtype=float) - 1, 2 * np.asarray(v, dtype=float) - 1
     px, py = 0.5 * (a + b), 0.5 * (a - b)
-    z = max(0.0, 1.0 - abs(px) - abs(py))
-    n = math.sqrt(px * px + py * py + z * z)
-    return px / n, py / n, z / n
+    z = np.maximum(0.0, 1 - np.abs(px) - np.abs(py))
+    d = np.stack([px, py, z], -1)
+    return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+def _rescale_diamond(u, v, radius):
+    """(u, v) with the diamond's radius rho = |px| + |py| mapped to
+    radius(min(rho, 1)), the direction in the diamond kept."""
+    a, b = 2 * u - 1, 2 * v - 1
+    px, py = 0.5 * (a + b), 0.5 * (a - b)
+    rho = np.abs(px) + np.abs(py)
+    r = np.minimum(rho, 1.0)
+    scale = np.where(rho > 0, radius(r) / np.where(rho > 0, rho, 1), 1.0)
+    px, py = px * scale, py * scale
+    return (px + py + 1) * 0.5, (px - py + 1) * 0.5
+
+
+def horizon_to_grid(u, v):
+    """The horizon warp (DirectionMap::HemiOctahedralHorizon, the material's
+    light map) on the plain map's (u, v): rho -> 1 - sqrt(1 - rho)."""
+    gu, gv = _rescale_diamond(u, v, lambda r: 1 - np.sqrt(1 - r))
+    return np.clip(gu, 0, 1), np.clip(gv, 0, 1)
+
+
+def horizon_from_grid(u, v):
+    """The inverse of horizon_to_grid: a node's (u, v) on the horizon map to
+    the plain square's (rho = 1 - (1 - rho')^2)."""
+    return _rescale_diamond(u, v, lambda r: 1 - (1 - r) ** 2)
 
 
 @dataclass

@@ -39,16 +39,20 @@ while the material's manifest is unchanged.
 """
 import hashlib
 import json
-import math
 import os
 import shutil
 from dataclasses import dataclass
 
 import numpy as np
 
+from .defaults import folder_siblings
+from .directions import hemi_oct_decode, hemi_oct_encode, horizon_from_grid, horizon_to_grid
 from .errors import ClothbakeError
+# The material folder's reader; imported here too, as the pack's callers
+# (and tests) know it by material_pack.read_material.
+from .material_manifest import (FORMAT, HORIZON, SQUARE, MaterialInfo,  # noqa: F401
+                                is_material_folder, read_material)
 
-FORMAT = "clothbake-material"
 PACK_VERSION = 4
 DEFAULT_RANK = 24       # components Blender evaluates (node count grows with it)
 DEFAULT_DENSE = 32      # light directions per side of the resampled grid
@@ -56,136 +60,8 @@ MAX_WIDTH = 8192        # widest coefficient image: Blender 3.4's Cycles read im
                         # 15232 and 16320 pixels wide as garbage, 13056 right
 MAX_SIDE = 16384        # largest texture side Eevee (Mesa llvmpipe) accepts
 
-HORIZON = "hemi-octahedral-horizon"
-SQUARE = "hemi-octahedral"
-
-
-@dataclass
-class MaterialInfo:
-    folder: str
-    manifest: dict
-    texels: int
-    levels: int
-    k: int
-    kl: int
-    light_map: str
-    max_rank: int
-    ranks: list
-    repeat_mm: list
-    depth_scale: float
-    name: str
-    cloth_hash: str
-
-
-def _field(m, key, kind, path):
-    if key not in m:
-        raise ClothbakeError("is missing", path, key)
-    value = m[key]
-    if kind is int and not (isinstance(value, int) and not isinstance(value, bool)):
-        raise ClothbakeError("must be an integer", path, key)
-    if kind is float and not isinstance(value, (int, float)):
-        raise ClothbakeError("must be a number", path, key)
-    if kind is str and not isinstance(value, str):
-        raise ClothbakeError("must be a string", path, key)
-    return value
-
-
-def is_material_folder(folder):
-    path = os.path.join(folder, "manifest.json")
-    try:
-        with open(path) as f:
-            return json.load(f).get("format") == FORMAT
-    except (OSError, ValueError, AttributeError):
-        return False
-
-
-def read_material(folder):
-    """The manifest of a material folder, checked as far as Blender needs it."""
-    folder = os.path.abspath(folder)
-    path = os.path.join(folder, "manifest.json")
-    if not os.path.isdir(folder):
-        raise ClothbakeError("is not a folder (a material folder holds manifest.json)", folder)
-    try:
-        with open(path) as f:
-            m = json.load(f)
-    except OSError as e:
-        raise ClothbakeError(f"cannot read it: {e.strerror}", path) from None
-    except ValueError as e:
-        raise ClothbakeError(f"is not valid JSON: {e}", path) from None
-    if not isinstance(m, dict) or m.get("format") != FORMAT:
-        raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
-    if _field(m, "version", int, path) != 1:
-        raise ClothbakeError("must be 1", path, "version")
-    texels = _field(m, "texels", int, path)
-    if texels < 1 or texels > 1024 or texels & (texels - 1):
-        raise ClothbakeError("must be a power of 2 in 1..1024", path, "texels")
-    levels = _field(m, "levels", int, path)
-    if levels != int(round(math.log2(texels))) + 1:
-        raise ClothbakeError("must be log2(texels) + 1", path, "levels")
-    k = _field(m, "directions", int, path)
-    kl = _field(m, "light_directions", int, path)
-    for key, value in (("directions", k), ("light_directions", kl)):
-        if not 2 <= value <= 32:
-            raise ClothbakeError("must be in 2..32", path, key)
-    if m.get("direction_map") != SQUARE:
-        raise ClothbakeError(f"must be \"{SQUARE}\"", path, "direction_map")
-    light_map = _field(m, "light_direction_map", str, path)
-    if light_map not in (HORIZON, SQUARE):
-        raise ClothbakeError(f"must be \"{HORIZON}\" or \"{SQUARE}\"", path, "light_direction_map")
-    max_rank = _field(m, "max_rank", int, path)
-    ranks = m.get("ranks")
-    if not isinstance(ranks, list) or len(ranks) != 2 * k * k or \
-            not all(isinstance(r, int) and 0 <= r <= max_rank for r in ranks):
-        raise ClothbakeError(f"must be {2 * k * k} integers in 0..max_rank", path, "ranks")
-    repeat = m.get("repeat_mm")
-    if not isinstance(repeat, list) or len(repeat) != 3 or \
-            not all(isinstance(x, (int, float)) and x > 0 for x in repeat):
-        raise ClothbakeError("must be 3 positive numbers", path, "repeat_mm")
-    optics = m.get("optics")
-    if not isinstance(optics, dict) or not isinstance(optics.get("depth_scale"), (int, float)):
-        raise ClothbakeError("must hold depth_scale", path, "optics")
-    files = m.get("files")
-    if not isinstance(files, dict) or not isinstance(files.get("levels"), list) or \
-            len(files["levels"]) != levels or not isinstance(files.get("light_factors"), str):
-        raise ClothbakeError("must name one file per level and the light factors", path, "files")
-    for name in files["levels"] + [files["light_factors"]]:
-        if not isinstance(name, str) or os.path.basename(name) != name or \
-                not os.path.isfile(os.path.join(folder, name)):
-            raise ClothbakeError(f"names {name!r}, which is not in the folder", path, "files")
-    cloth = m.get("cloth") if isinstance(m.get("cloth"), dict) else {}
-    return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
-                        [float(x) for x in repeat], float(optics["depth_scale"]),
-                        str(cloth.get("name", "")), str(cloth.get("hash", "")))
-
 
 # --- the light grids (baker/core/bake/direction_grid.cpp, in numpy) --------
-
-def hemi_oct_encode(d):
-    """(u, v) in [0, 1] of directions d (..., 3); z taken as |z|."""
-    norm = np.abs(d).sum(-1)
-    norm = np.where(norm > 0, norm, 1.0)
-    px, py = d[..., 0] / norm, d[..., 1] / norm
-    return np.clip((px + py + 1) * 0.5, 0, 1), np.clip((px - py + 1) * 0.5, 0, 1)
-
-
-def hemi_oct_decode(u, v):
-    a, b = 2 * u - 1, 2 * v - 1
-    px, py = 0.5 * (a + b), 0.5 * (a - b)
-    z = np.maximum(0.0, 1 - np.abs(px) - np.abs(py))
-    d = np.stack([px, py, z], -1)
-    return d / np.linalg.norm(d, axis=-1, keepdims=True)
-
-
-def _warp_to_grid(u, v):
-    """The horizon warp (DirectionMap::HemiOctahedralHorizon) on (u, v)."""
-    a, b = 2 * u - 1, 2 * v - 1
-    px, py = 0.5 * (a + b), 0.5 * (a - b)
-    rho = np.abs(px) + np.abs(py)
-    r = np.minimum(rho, 1.0)
-    scale = np.where(rho > 0, (1 - np.sqrt(1 - r)) / np.where(rho > 0, rho, 1), 1.0)
-    px, py = px * scale, py * scale
-    return np.clip((px + py + 1) * 0.5, 0, 1), np.clip((px - py + 1) * 0.5, 0, 1)
-
 
 def _catmull_rom(t):
     t2, t3 = t * t, t * t * t
@@ -202,7 +78,7 @@ def light_node_weights(dirs, kl, light_map, side=None):
     side = (dirs[:, 2] < 0).astype(int) if side is None else np.asarray(side, int)
     u, v = hemi_oct_encode(dirs)
     if light_map == HORIZON:
-        u, v = _warp_to_grid(u, v)
+        u, v = horizon_to_grid(u, v)
     gx, gy = u * (kl - 1), v * (kl - 1)
     i0 = np.minimum(gx.astype(int), kl - 2)
     j0 = np.minimum(gy.astype(int), kl - 2)
@@ -218,18 +94,6 @@ def light_node_weights(dirs, kl, light_map, side=None):
     return out
 
 
-def _warp_from_grid(u, v):
-    """The inverse of _warp_to_grid: a node's (u, v) on the horizon map to
-    the plain square's (rho = 1 - (1 - rho')^2)."""
-    a, b = 2 * u - 1, 2 * v - 1
-    px, py = 0.5 * (a + b), 0.5 * (a - b)
-    rho = np.abs(px) + np.abs(py)
-    r = np.minimum(rho, 1.0)
-    scale = np.where(rho > 0, (1 - (1 - r) ** 2) / np.where(rho > 0, rho, 1), 1.0)
-    px, py = px * scale, py * scale
-    return (px + py + 1) * 0.5, (px - py + 1) * 0.5
-
-
 def dense_light_directions(m, light_map=SQUARE):
     """Directions (2 m^2, 3) of the resampled grid, index (sl m + b) m + a,
     and their sides. The grid is laid on the material's own light map, so a
@@ -237,7 +101,7 @@ def dense_light_directions(m, light_map=SQUARE):
     g = np.arange(m) / (m - 1)
     u, v = np.meshgrid(g, g)             # v rows (b), u columns (a)
     if light_map == HORIZON:
-        u, v = _warp_from_grid(u, v)
+        u, v = horizon_from_grid(u, v)
     d = hemi_oct_decode(u, v).reshape(-1, 3)
     back = d.copy()
     back[:, 2] = -back[:, 2]
@@ -339,79 +203,79 @@ def blender_rank(info, rank=None):
     return max(1, min(want, max(1, info.max_rank), fits))
 
 
-def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
-    """The Pack of `info` (MaterialInfo), made once and reused."""
-    rank = blender_rank(info, rank)
-    if not 2 <= dense <= 64:
-        raise ClothbakeError("must be in 2..64", "", "dense")
+def _layout(info, rank, dense):
+    """The Pack of `info` at this rank and grid: where everything goes."""
     folder = os.path.join(info.folder, f"blender-r{rank}-m{dense}")
-    key = pack_key(info, rank, dense)
     groups = (rank + 3) // 4
-    k, s0 = info.k, info.texels
     width, height, per_row, band = coefficient_layout(info, rank)
     q = dense + 2
-    lw, lh = groups * k * 2 * q, 2 * k * q
-    pack = Pack(folder, os.path.join(folder, "coefficients.exr"),
+    return Pack(folder, os.path.join(folder, "coefficients.exr"),
                 os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
-                per_row, band, lw, lh, groups)
-    try:
-        with open(os.path.join(folder, "pack.json")) as f:
-            if json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
-                    os.path.isfile(pack.light_factors):
-                return pack
-    except (OSError, ValueError):
-        pass
+                per_row, band, groups * info.k * 2 * q, 2 * info.k * q, groups)
 
-    files = info.manifest["files"]
-    views = 2 * k * k
-    coeff = np.zeros((height, width, 4), np.float32)
-    for level in range(info.levels):
-        if progress:
-            progress(level / (info.levels + 1))
-        path = os.path.join(info.folder, files["levels"][level])
-        px, names = _read_exr(path, f"level {level}")
-        s = max(1, s0 >> level)
-        if px.shape[:2] != (2 * k * s, k * s):
-            raise ClothbakeError(f"is {px.shape[1]} x {px.shape[0]} pixels; the manifest says "
-                                 f"{k * s} x {2 * k * s}", path)
-        p = s + 2
-        y0 = int(round(level_offset(s0, k, level)))
-        alpha = px[..., _channel(names, "A", path)]
-        # (2K rows of tiles, S, K columns, S) -> [row, col, ty, tx], rows top-down in the file
-        a_t = alpha.reshape(2 * k, s, k, s).transpose(0, 2, 1, 3)
-        for comp in range(rank):
-            if comp < info.max_rank:
-                rgb = np.stack([px[..., _channel(names, f"k{comp:04d}.{c}", path)]
-                                for c in "RGB"], -1)
-            else:
-                rgb = np.zeros(px.shape[:2] + (3,), np.float32)
-            c_t = rgb.reshape(2 * k, s, k, s, 3).transpose(0, 2, 1, 3, 4)
-            tile = np.concatenate([c_t, a_t[..., None]], -1)       # (2K, K, S, S, 4)
-            # texel (tx, ty) with ty counted from the repeat's y = 0 (the
-            # file's row order inside a tile), placed with the gutter
-            padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
-            for row in range(2 * k):
-                for col in range(k):
-                    x = ((comp % per_row) * k + col) * p
-                    y = (comp // per_row) * band + y0 + row * p
-                    coeff[y:y + p, x:x + p] = padded[row, col]
+
+def _is_cached(pack, key):
+    try:
+        with open(os.path.join(pack.folder, "pack.json")) as f:
+            return json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
+                os.path.isfile(pack.light_factors)
+    except (OSError, ValueError):
+        return False
+
+
+def _place_level(coeff, info, pack, level):
+    """Level `level`'s tiles of every kept component into `coeff`."""
+    k, s0 = info.k, info.texels
+    path = os.path.join(info.folder, info.manifest["files"]["levels"][level])
+    px, names = _read_exr(path, f"level {level}")
+    s = max(1, s0 >> level)
+    if px.shape[:2] != (2 * k * s, k * s):
+        raise ClothbakeError(f"is {px.shape[1]} x {px.shape[0]} pixels; the manifest says "
+                             f"{k * s} x {2 * k * s}", path)
+    p = s + 2
+    y0 = int(round(level_offset(s0, k, level)))
+    alpha = px[..., _channel(names, "A", path)]
+    # (2K rows of tiles, S, K columns, S) -> [row, col, ty, tx], rows top-down in the file
+    a_t = alpha.reshape(2 * k, s, k, s).transpose(0, 2, 1, 3)
+    for comp in range(pack.rank):
+        if comp < info.max_rank:
+            rgb = np.stack([px[..., _channel(names, f"k{comp:04d}.{c}", path)]
+                            for c in "RGB"], -1)
+        else:
+            rgb = np.zeros(px.shape[:2] + (3,), np.float32)
+        c_t = rgb.reshape(2 * k, s, k, s, 3).transpose(0, 2, 1, 3, 4)
+        tile = np.concatenate([c_t, a_t[..., None]], -1)       # (2K, K, S, S, 4)
+        # texel (tx, ty) with ty counted from the repeat's y = 0 (the
+        # file's row order inside a tile), placed with the gutter
+        padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
+        for row in range(2 * k):
+            for col in range(k):
+                x = ((comp % pack.per_row) * k + col) * p
+                y = (comp // pack.per_row) * pack.band + y0 + row * p
+                coeff[y:y + p, x:x + p] = padded[row, col]
     # The tile's row ty is texel y = ty (y up in Blender's image space), so
     # the array is stored bottom-up as it is: nothing to flip per tile.
 
-    path = os.path.join(info.folder, files["light_factors"])
+
+def _light_factor_image(info, pack):
+    """light_factors.exr's pixels: the material's factors resampled onto the
+    dense grid, tiled as the module docstring says."""
+    k, dense, groups = info.k, pack.dense, pack.groups
+    q = dense + 2
+    path = os.path.join(info.folder, info.manifest["files"]["light_factors"])
     lf, names = _read_exr(path, "light factors")
-    nl = 2 * info.kl * info.kl
+    views, nl = 2 * k * k, 2 * info.kl * info.kl
     if lf.shape[:2] != (views, nl):
         raise ClothbakeError(f"is {lf.shape[1]} x {lf.shape[0]} pixels; the manifest says "
                              f"{nl} x {views}", path)
     f = np.zeros((views, nl, groups * 4), np.float32)
-    for comp in range(min(rank, info.max_rank)):
+    for comp in range(min(pack.rank, info.max_rank)):
         f[..., comp] = lf[..., _channel(names, f"k{comp:04d}", path)]
     dirs, sides = dense_light_directions(dense, info.light_map)
     weights = light_node_weights(dirs, info.kl, info.light_map, sides)
     dense_f = np.einsum("dn,vnc->vdc", weights, f.astype(np.float64)).astype(np.float32)
     dense_f = dense_f.reshape(2, k, k, 2, dense, dense, groups, 4)  # sv, j, i, sl, b, a, g, c
-    lights = np.zeros((lh, lw, 4), np.float32)
+    lights = np.zeros((pack.light_height, pack.light_width, 4), np.float32)
     for g in range(groups):
         block = np.pad(dense_f[..., g, :], ((0, 0),) * 4 + ((1, 1), (1, 1), (0, 0)), mode="edge")
         for sv in range(2):
@@ -421,20 +285,24 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
                         x = ((g * k + i) * 2 + sl) * q
                         y = (sv * k + j) * q
                         lights[y:y + q, x:x + q] = block[sv, j, i, sl]
-    if progress:
-        progress(info.levels / (info.levels + 1))
+    return lights
 
-    tmp = f"{folder}.tmp-{os.getpid()}"
+
+def _write_pack(pack, key, coeff, lights):
+    """The pack's folder, written as a temporary sibling and renamed over
+    the old one (the program's NAME.tmp-PID / NAME.old-PID names)."""
+    folder = pack.folder
+    tmp, old = folder_siblings(folder, os.getpid())
     shutil.rmtree(tmp, ignore_errors=True)
     os.makedirs(tmp)
     try:
         _write_exr(os.path.join(tmp, "coefficients.exr"), coeff, "half")
         _write_exr(os.path.join(tmp, "light_factors.exr"), lights, "float")
         with open(os.path.join(tmp, "pack.json"), "w") as fh:
-            json.dump({"key": key, "rank": rank, "dense": dense, "width": width,
-                       "height": height, "per_row": per_row, "band": band, "light_width": lw, "light_height": lh,
-                       "groups": groups}, fh, indent=2)
-        old = f"{folder}.old-{os.getpid()}"
+            json.dump({"key": key, "rank": pack.rank, "dense": pack.dense, "width": pack.width,
+                       "height": pack.height, "per_row": pack.per_row, "band": pack.band,
+                       "light_width": pack.light_width, "light_height": pack.light_height,
+                       "groups": pack.groups}, fh, indent=2)
         if os.path.isdir(folder):
             os.rename(folder, old)
         os.rename(tmp, folder)
@@ -442,7 +310,26 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     except OSError as e:
         shutil.rmtree(tmp, ignore_errors=True)
         raise ClothbakeError(f"cannot write the Blender images: {e.strerror}", folder) from None
+
+
+def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
+    """The Pack of `info` (MaterialInfo), made once and reused."""
+    rank = blender_rank(info, rank)
+    if not 2 <= dense <= 64:
+        raise ClothbakeError("must be in 2..64", "", "dense")
+    pack = _layout(info, rank, dense)
+    key = pack_key(info, rank, dense)
+    if _is_cached(pack, key):
+        return pack
+    coeff = np.zeros((pack.height, pack.width, 4), np.float32)
+    for level in range(info.levels):
+        if progress:
+            progress(level / (info.levels + 1))
+        _place_level(coeff, info, pack, level)
+    lights = _light_factor_image(info, pack)
+    if progress:
+        progress(info.levels / (info.levels + 1))
+    _write_pack(pack, key, coeff, lights)
     if progress:
         progress(1.0)
     return pack
-

@@ -76,10 +76,7 @@ def _render(value, path):
     return value
 
 
-def load_scene(path):
-    """Reads a scene file; returns a plain dict with defaults filled in and
-    mesh / cloth paths made absolute. Raises ClothbakeError."""
-    path = os.path.abspath(path)
+def _read_json(path):
     try:
         with open(path, encoding="utf-8") as f:
             root = json.load(f)
@@ -92,8 +89,11 @@ def load_scene(path):
         raise ClothbakeError(f"invalid JSON: {e.msg}", path, f"line {e.lineno}") from None
     if not isinstance(root, dict):
         raise ClothbakeError("must be a JSON object", path)
-    folder = os.path.dirname(path)
+    return root
 
+
+def _camera(root, path):
+    """The camera block, defaults filled in and checked."""
     cam_json = root.get("camera")
     if not isinstance(cam_json, dict):
         raise ClothbakeError("missing or not an object", path, "camera")
@@ -108,7 +108,11 @@ def load_scene(path):
     if (not isinstance(res, list) or len(res) != 2 or
             not all(isinstance(v, int) and not isinstance(v, bool) and v >= 1 for v in res)):
         raise ClothbakeError("must be [width, height], integers >= 1", path, "camera.resolution")
+    return cam
 
+
+def _lights(root, path):
+    """The lights, each a dict of type, color, intensity and its direction or position."""
     lights = []
     lights_json = root.get("lights")
     if not isinstance(lights_json, list) or not lights_json:
@@ -126,53 +130,64 @@ def load_scene(path):
         else:
             light["position"] = _vec(lj.get("position"), 3, path, where + ".position")
         lights.append(light)
+    return lights
 
-    objects = []
+
+def _object(oj, where, folder, path):
+    """objects[i] with defaults filled in and its paths made absolute."""
+    if not isinstance(oj, dict):
+        raise ClothbakeError("must be an object", path, where)
+    obj = dict(OBJECT_DEFAULTS)
+    obj.update(oj)
+    obj["name"] = oj.get("name", where)
+    if not isinstance(obj["name"], str) or not obj["name"]:
+        raise ClothbakeError("must be a non-empty string", path, where + ".name")
+    mesh = oj.get("mesh")
+    if not isinstance(mesh, str) or not mesh:
+        raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
+    obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
+    if "volume" in oj:
+        # A texture read from a VDB (docs/scene-format.md): kept as a path
+        # and written back on export; the cloth spec still gives the fibre
+        # model. The program reads and checks the file when it renders.
+        volume = oj["volume"]
+        if not isinstance(volume, str) or not volume:
+            raise ClothbakeError("must be the path of a VDB file", path, where + ".volume")
+        obj["volume_path"] = os.path.normpath(os.path.join(folder, volume))
+        if not os.path.isfile(obj["volume_path"]):
+            raise ClothbakeError(f"the VDB file {obj['volume_path']} does not exist", path,
+                                 where + ".volume")
+    cloth = oj.get("cloth")
+    if isinstance(cloth, str):
+        obj["cloth_path"] = os.path.normpath(os.path.join(folder, cloth))
+    elif isinstance(cloth, dict):
+        try:  # an inline spec's errors are named by their full path in the scene
+            fields_from_spec(cloth, path)
+        except ClothbakeError as e:
+            raise ClothbakeError(e.message, path, ".".join(
+                p for p in (where + ".cloth", e.field) if p)) from None
+    else:
+        raise ClothbakeError("must be a cloth spec object or the path of one", path,
+                             where + ".cloth")
+    for key in ("repeats_per_uv", "thickness_world", "extinction_per_mm"):
+        obj[key] = _num(obj[key], path, f"{where}.{key}")
+    obj["isotropic_albedo"] = _vec(obj["isotropic_albedo"], 3, path,
+                                   where + ".isotropic_albedo")
+    return obj
+
+
+def load_scene(path):
+    """Reads a scene file; returns a plain dict with defaults filled in and
+    mesh / cloth paths made absolute. Raises ClothbakeError."""
+    path = os.path.abspath(path)
+    root = _read_json(path)
+    folder = os.path.dirname(path)
+    cam = _camera(root, path)
+    lights = _lights(root, path)
     objects_json = root.get("objects")
     if not isinstance(objects_json, list) or not objects_json:
         raise ClothbakeError("must be a non-empty array", path, "objects")
-    for i, oj in enumerate(objects_json):
-        where = f"objects[{i}]"
-        if not isinstance(oj, dict):
-            raise ClothbakeError("must be an object", path, where)
-        obj = dict(OBJECT_DEFAULTS)
-        obj.update(oj)
-        obj["name"] = oj.get("name", where)
-        if not isinstance(obj["name"], str) or not obj["name"]:
-            raise ClothbakeError("must be a non-empty string", path, where + ".name")
-        mesh = oj.get("mesh")
-        if not isinstance(mesh, str) or not mesh:
-            raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
-        obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
-        if "volume" in oj:
-            # A texture read from a VDB (docs/scene-format.md): kept as a path
-            # and written back on export; the cloth spec still gives the fibre
-            # model. The program reads and checks the file when it renders.
-            volume = oj["volume"]
-            if not isinstance(volume, str) or not volume:
-                raise ClothbakeError("must be the path of a VDB file", path, where + ".volume")
-            obj["volume_path"] = os.path.normpath(os.path.join(folder, volume))
-            if not os.path.isfile(obj["volume_path"]):
-                raise ClothbakeError(f"the VDB file {obj['volume_path']} does not exist", path,
-                                     where + ".volume")
-        cloth = oj.get("cloth")
-        if isinstance(cloth, str):
-            obj["cloth_path"] = os.path.normpath(os.path.join(folder, cloth))
-        elif isinstance(cloth, dict):
-            try:  # an inline spec's errors are named by their full path in the scene
-                fields_from_spec(cloth, path)
-            except ClothbakeError as e:
-                raise ClothbakeError(e.message, path, ".".join(
-                    p for p in (where + ".cloth", e.field) if p)) from None
-        else:
-            raise ClothbakeError("must be a cloth spec object or the path of one", path,
-                                 where + ".cloth")
-        for key in ("repeats_per_uv", "thickness_world", "extinction_per_mm"):
-            obj[key] = _num(obj[key], path, f"{where}.{key}")
-        obj["isotropic_albedo"] = _vec(obj["isotropic_albedo"], 3, path,
-                                       where + ".isotropic_albedo")
-        objects.append(obj)
-
+    objects = [_object(oj, f"objects[{i}]", folder, path) for i, oj in enumerate(objects_json)]
     background = _vec(root.get("background", [0.0, 0.0, 0.0]), 3, path, "background")
     render = dict(RENDER_DEFAULTS)
     render.update(_render(root.get("render"), path))

@@ -101,7 +101,7 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
   s.light_directions = 5;
   MaterialOptics optics;
   optics.light_roulette = 0.0f;
-  ClothMaterial layout = material_layout(f.volume, optics, s);
+  ClothMaterial layout = unbaked_material(f.volume, optics, s);
   // Light nodes above 15 degrees (grazing ones: the stability suite).
   std::vector<V3f> light_local;
   for (const V3f& d : material_light_directions(layout))
@@ -413,7 +413,7 @@ TEST(MaterialShader, RefusesAnotherThicknessExtinctionOrShading) {
   scene.objects.push_back(obj);
   auto prepared = std::make_unique<ClothScene>(scene, k_budget);
   Fixture f;
-  ClothMaterial m = material_layout(f.volume, object_optics(*prepared, 0), tiny_settings());
+  ClothMaterial m = unbaked_material(f.volume, object_optics(*prepared, 0), tiny_settings());
   EXPECT_NO_THROW(check_material_fits(*prepared, 0, m));
   auto field_after = [&](auto change) -> std::string {
     Scene changed = scene;

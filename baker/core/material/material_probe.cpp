@@ -1,0 +1,218 @@
+#include "core/material/material_probe.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/material/material_bake.h"
+#include "core/util/stopwatch.h"
+
+namespace clothbake {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+using Imath::V3f;
+
+/// `count` distinct node indices of [0, n) picked by the golden-ratio
+/// sequence. Nodes cost differently by direction (horizon nodes march or
+/// build longest), and node indices run row by row over a K x K grid: even
+/// strides keep hitting the same column (with K = 16 and 8 picks of 512,
+/// all on the horizon), the golden ratio mixes rows and columns.
+std::vector<int> pick_nodes(int n, int count) {
+  std::vector<int> out;
+  std::vector<bool> taken(size_t(n), false);
+  double x = 0.5;
+  while (int(out.size()) < std::min(n, count)) {
+    int i = std::min(n - 1, int(x * double(n)));
+    while (taken[size_t(i)]) i = (i + 1) % n;
+    taken[size_t(i)] = true;
+    out.push_back(i);
+    x += 0.6180339887498949;
+    x -= std::floor(x);
+  }
+  return out;
+}
+
+/// The probe's light nodes: their directions in both frames, and the
+/// fields of all P of them and of the first alone.
+struct ProbeLights {
+  std::vector<V3f> local, texture;
+  LightFieldSet fields_p, fields_1;
+};
+
+/// Step 1: P light nodes' fields, spread over the grid; and the first of
+/// them alone, for the marches' cost per light node.
+ProbeLights probe_fields(const ClothMaterial& material, const VolumeTexture& volume,
+                         MaterialEstimate& e) {
+  const std::vector<V3f> light_local = material_light_directions(material);
+  const int L = material.light_count(), P = std::min(L, k_probe_light_nodes);
+  const MaterialSettings& s = material.settings;
+  const float sigma = material.optics.extinction_per_mm;
+  e.probe_light_nodes = P;
+  ProbeLights p;
+  for (int n : pick_nodes(L, P)) {
+    p.local.push_back(light_local[size_t(n)]);
+    p.texture.push_back(material.texture_from_material(light_local[size_t(n)]));
+  }
+  const auto t0 = Clock::now();
+  p.fields_p = LightFieldSet::build(volume, p.texture, sigma, s.field_supersample);
+  e.fields_seconds = seconds_since(t0) * double(L) / double(P);
+  p.fields_1 = LightFieldSet::build(volume, std::span(p.texture).first(1), sigma,
+                                    s.field_supersample);
+  return p;
+}
+
+/// Per thread: the probe's fibre tables, march scratch and core-seconds.
+struct ProbeLocal {
+  FiberLightTable table_1, table_p;
+  NodeMarchScratch scratch_1, scratch_p;
+  NodeMarchCounts counts;
+  std::vector<V3f> radiance;
+  double table_core = 0.0, march_1_core = 0.0, march_p_core = 0.0;
+};
+
+/// Step 2: probe views spread over both hemispheres, on the bake's threads.
+/// Probe view i marches a run of consecutive rays (texels in the bake's
+/// order, row by row, spp each) starting at a point of the repeat picked per
+/// view: consecutive texels read neighbouring light-field points, and the
+/// bake's speed depends on that (rays scattered over the repeat ran 10 times
+/// slower per ray with the 200 nodes' fields). Each ray is marched for 1 and
+/// for P light nodes in turn, so that a burst of other work on the machine
+/// slows both alike: their difference is what is extrapolated.
+void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
+                   const FiberShader& shader, const ProbeLights& lights, int threads,
+                   MaterialEstimate& e) {
+  const MaterialSettings& s = material.settings;
+  const int V = material.view_count(), L = material.light_count(), R = s.texels;
+  const int P = int(lights.local.size());
+  const int VP = std::min(V, k_probe_view_nodes);
+  e.probe_view_nodes = VP;
+  const std::vector<int> views = pick_nodes(V, VP);
+  const uint64_t rays_per_view = uint64_t(R) * uint64_t(R) * uint64_t(s.spp);
+  const uint64_t probe_rays = std::min<uint64_t>(rays_per_view, k_probe_rays_per_view);
+  e.probe_rays = probe_rays * uint64_t(VP);
+  const auto first_ray = [&](int i) {
+    const double x = double(i) * 0.6180339887498949 + 0.25;
+    return uint64_t((x - std::floor(x)) * double(rays_per_view - probe_rays));
+  };
+  const bool tabulate = tabulates_fiber(s, material.optics);
+  const std::span<const V3f> lights_p(lights.local), lights_1 = lights_p.first(1);
+  tbb::enumerable_thread_specific<ProbeLocal> locals;
+  tbb::parallel_for(0, VP, [&](int i) {
+    ProbeLocal& local = locals.local();
+    const int view = views[size_t(i)];
+    if (tabulate) {
+      const V3f to_eye = material.view_grid.bake_direction(view);
+      local.table_1.build(shader, lights_1, to_eye, s.fiber_tangent_nodes);
+      const auto tt = Clock::now();
+      local.table_p.build(shader, lights_p, to_eye, s.fiber_tangent_nodes);
+      local.table_core += seconds_since(tt);
+    }
+    local.scratch_1.view_tag = local.scratch_p.view_tag = uint32_t(view) + 1;
+    local.radiance.resize(size_t(P));
+    for (uint64_t r = first_ray(i); r < first_ray(i) + probe_rays; ++r) {
+      const int k = int(r % uint64_t(s.spp)), t = int(r / uint64_t(s.spp));
+      for (int pass = 0; pass < 2; ++pass) {
+        const auto tm = Clock::now();
+        NodeMarchInput in = material_sample(material, volume, shader,
+                                            pass == 0 ? lights.fields_1 : lights.fields_p,
+                                            pass == 0 ? lights_1 : lights_p, view, t % R, t / R, k);
+        if (tabulate) in.fiber_table = pass == 0 ? &local.table_1 : &local.table_p;
+        std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
+        if (in.length_mm > 0.0f)
+          march_view_ray_all_lights(in, local.radiance.data(),
+                                    pass == 0 ? local.scratch_1 : local.scratch_p, local.counts);
+        (pass == 0 ? local.march_1_core : local.march_p_core) += seconds_since(tm);
+      }
+    }
+  });
+  double table_core = 0.0, march_1_core = 0.0, march_p_core = 0.0;
+  for (const ProbeLocal& l : locals) {
+    table_core += l.table_core;
+    march_1_core += l.march_1_core;
+    march_p_core += l.march_p_core;
+  }
+  // Per ray at L nodes: linear through the 1-node and P-node costs.
+  const double per_ray_1 = march_1_core / double(e.probe_rays);
+  const double per_ray_p = march_p_core / double(e.probe_rays);
+  const double per_ray =
+      P > 1 ? per_ray_1 + std::max(0.0, per_ray_p - per_ray_1) * double(L - 1) / double(P - 1)
+            : per_ray_p;
+  const double per_view_table = table_core / double(VP) * double(L) / double(P);
+  e.marches_seconds =
+      (per_view_table * double(V) + per_ray * double(e.rays)) / double(std::max(threads, 1));
+}
+
+/// Step 3: one view's factorisation, at the real size (3 R^2 rows by L light
+/// nodes) up to 64 x 64 texels, on a matrix of the same shape; the products
+/// scale with the rows, the eigensolve does not. Every view's is the same work.
+double probe_factorise(const MaterialLayout& layout, int threads) {
+  const uint64_t texels = layout.level_texels(0);
+  const Eigen::Index rows = Eigen::Index(std::min<uint64_t>(texels, 64 * 64)) * 3;
+  const double row_scale = double(texels) * 3.0 / double(rows);
+  const Eigen::MatrixXf m = Eigen::MatrixXf::Random(rows, layout.light_count()).cwiseAbs();
+  const auto tg = Clock::now();
+  const Eigen::MatrixXd gram = (m.transpose() * m).cast<double>();
+  const double gram_seconds = seconds_since(tg);
+  const auto te = Clock::now();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
+  const double eigen_seconds = seconds_since(te);
+  const auto tu = Clock::now();
+  const Eigen::MatrixXf u = m * eig.eigenvectors().cast<float>();
+  const double product_seconds = seconds_since(tu);
+  return ((gram_seconds + product_seconds) * row_scale + eigen_seconds +
+          (u.size() > 0 ? 0.0 : 1.0)) *  // keeps u from being optimised away
+         double(layout.view_count()) / double(std::max(threads, 1));
+}
+
+/// Step 4: the mips (one thread in the bake): timed on 8 views of up to
+/// 256 x 256 texels at rank min(L, 8), scaled by views, texels and rank to
+/// the full-rank table (an upper bound).
+double probe_mips(const VolumeTexture& volume, const MaterialOptics& optics,
+                  const MaterialSettings& settings) {
+  MaterialSettings small = settings;
+  small.texels = std::min(settings.texels, 256);
+  small.directions = 2;
+  ClothMaterial mips = unbaked_material(volume, optics, small);
+  const MaterialLayout full = MaterialLayout::of(settings);
+  mips.max_rank = std::min(full.light_count(), 8);
+  mips.allocate();
+  const auto tm = Clock::now();
+  mips.build_mips();
+  return seconds_since(tm) * double(full.view_count()) / double(mips.view_count()) *
+         double(full.level_texels(0)) / double(mips.layout().level_texels(0)) *
+         double(full.light_count()) / double(mips.max_rank);
+}
+}  // namespace
+
+MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
+                                const MaterialOptics& optics, const MaterialSettings& settings,
+                                int threads) {
+  MaterialEstimate e;
+  const auto probe_start = Clock::now();
+  const ClothMaterial material = unbaked_material(volume, optics, settings);
+  const MaterialLayout layout = material.layout();
+  e.view_nodes = layout.view_count();
+  e.light_nodes = layout.light_count();
+  e.rays = uint64_t(e.view_nodes) * layout.level_texels(0) * uint64_t(settings.spp);
+  e.light_field_bytes =
+      LightFieldSet::bytes_for(volume, e.light_nodes, settings.field_supersample);
+  e.fixed_bytes = material_bake_fixed_bytes(volume, settings, threads);
+  e.max_bytes = layout.table_bytes(e.light_nodes);
+
+  const ProbeLights lights = probe_fields(material, volume, e);
+  probe_marches(material, volume, shader, lights, threads, e);
+  e.factorise_seconds = probe_factorise(layout, threads);
+  e.mips_seconds = probe_mips(volume, optics, settings);
+  e.seconds = e.fields_seconds + e.marches_seconds + e.factorise_seconds + e.mips_seconds;
+  e.probe_seconds = seconds_since(probe_start);
+  return e;
+}
+
+}  // namespace clothbake

@@ -1,0 +1,42 @@
+#include "io/material_report.h"
+
+#include <algorithm>
+
+namespace clothbake::io {
+
+nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialEstimate& e,
+                                      int threads) {
+  const nlohmann::json report = {
+      {"seconds", e.seconds}, {"fields_seconds", e.fields_seconds},
+      {"marches_seconds", e.marches_seconds}, {"factorise_seconds", e.factorise_seconds},
+      {"mips_seconds", e.mips_seconds}, {"probe_seconds", e.probe_seconds},
+      {"probe_light_nodes", e.probe_light_nodes}, {"probe_view_nodes", e.probe_view_nodes},
+      {"probe_rays", e.probe_rays}, {"threads", threads}, {"view_nodes", e.view_nodes},
+      {"light_nodes", e.light_nodes}, {"texels", s.texels}, {"spp", s.spp}, {"rays", e.rays},
+      {"light_field_bytes", e.light_field_bytes}, {"fixed_bytes", e.fixed_bytes},
+      {"max_bytes", e.max_bytes}};
+  return report;
+}
+
+nlohmann::json material_bake_report_json(const ClothMaterial& m, const MaterialBakeStats& stats,
+                                        double seconds, int threads) {
+  double rank_sum = 0.0, worst = 0.0;
+  for (int v = 0; v < m.view_count(); ++v) {
+    rank_sum += m.rank[v];
+    worst = std::max(worst, double(m.error[v]));
+  }
+  const double core_seconds = seconds * double(threads);
+  const nlohmann::json report = {
+      {"seconds", seconds}, {"threads", threads}, {"view_nodes", m.view_count()},
+      {"light_nodes", m.light_count()}, {"texels", m.texels()}, {"rays", stats.rays},
+      {"march_samples", stats.march_samples}, {"fiber_evaluations", stats.fiber_evaluations},
+      {"march_samples_per_core_second", double(stats.march_samples) / core_seconds},
+      {"fiber_evaluations_per_core_second", double(stats.fiber_evaluations) / core_seconds},
+      {"light_field_mib", double(stats.field_bytes) / double(1 << 20)},
+      {"uncompressed_mib", stats.uncompressed_values * 2.0 / double(1 << 20)},
+      {"max_rank", m.max_rank}, {"mean_rank", rank_sum / double(m.view_count())},
+      {"worst_view_error", worst}, {"depth_scale", m.optics.depth_scale}};
+  return report;
+}
+
+}  // namespace clothbake::io

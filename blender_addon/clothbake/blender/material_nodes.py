@@ -1,0 +1,457 @@
+"""The cloth material's node group (docs/material-format.md), plain nodes
+that Cycles, Eevee and the viewport's Material Preview all run. Nothing is
+stored per face. Per shading point the group computes, one function a step:
+  1. the frame (_frame): N the true normal (Geometry's, unflipped with
+     Backfacing), T the UV map's tangent made orthogonal to N, B = N x T;
+     the directions toward the eye (_view_direction) and toward each light
+     (_light) in that frame;
+  2. where in the repeat (_texel_address): the UV map x repeats per UV, its
+     fraction;
+  3. the level from the pixel's footprint (_level, below);
+  4. the view node (_view_node), level and texel, each picked at random with
+     the probabilities of clothbake's bilinear / trilinear weights (a White
+     Noise of the position, _randoms: every sample of a pixel hits another
+     point), so that one read of the Blender images
+     (clothbake.core.material_pack) per component replaces 4 views x 2
+     levels x 4 texels; the pixel's samples average the blend ("stochastic
+     texture filtering"). Every image is read with Closest: nothing bleeds
+     between tiles, and Eevee's GPU mip-maps (which an atlas cannot use)
+     never come into play;
+  5. per light (_light), its direction's light factors (resampled densely
+     in the pack, so a stochastic bilinear read stands in for clothbake's
+     Catmull-Rom), times its irradiance: W_k = sum_l E_l F_k(v, l);
+  6. L = max(0, sum_k C_k W_k) (_components), alpha A; the shaders
+     (_shaders).
+Route "exact": Emission(L) + Transparent(1 - A), the reference renderer's
+sum (no shadows from other objects, no cloth-on-cloth shadowing).
+Route "cycles-lit": lights on the viewer's side of the surface go through
+a Diffuse closure whose colour is pi L_front / sum_l E_l cos_l, so that
+Cycles (or Eevee) adds its own shadows and the light's live power; lights
+behind the surface (light through the cloth) stay Emission.
+
+The footprint: the distance to the camera (the point in camera space) x
+the camera's pixel angle (sensor width / lens / pixels, a driver on the
+scene's camera and resolution), stretched by 1 / sqrt(cos) of the view's
+tilt, in level-0 texels through the object's world units per UV (the mean
+over its evaluated mesh, measured on Apply: where the UV map stretches the
+weave locally, the level follows the mean), divided by sqrt(samples)
+(Cycles' samples: each sample prefilters its stratum of the pixel).
+
+Node creation order matters, not only the graph: Cycles compiles nodes in
+creation order and keeps a value on its 255-float SVM stack until its last
+user, so the steps run in the order above and must not be reordered.
+"""
+import math
+from collections import namedtuple
+
+import bpy
+
+from ..core.material_manifest import HORIZON
+from .graph import Graph
+
+GROUP_VERSION = 1
+BLACK = (0.0, 0.0, 0.0, 1.0)
+
+# The frame of step 1: `facing` is Geometry's normal (toward the viewer),
+# `normal` the mesh's own side of it.
+Frame = namedtuple("Frame", "geometry facing normal tangent bitangent")
+# What the light loop hands the component loop, per light: the light-factor
+# image's address and [(irradiance, accumulator: 0 radiance / front, 1 behind)].
+LightTerm = namedtuple("LightTerm", "uv parts")
+
+
+def _mix(g, blend, a, b, fac, column):
+    """Colour a (blend) b by fac, factor and result unclamped (Blender 3.4's
+    Mix node; the legacy MixRGB clamps fac in Eevee). Colours throughout:
+    a float or vector into a colour socket makes Cycles insert a conversion
+    node after all others, which delays its users to a later compile pass
+    while every ready texture read is compiled and held on the 255-float SVM
+    stack ("out of SVM stack space": a black cloth at rank 24)."""
+    n = g.node("ShaderNodeMix", column, data_type="RGBA", blend_type=blend,
+               clamp_factor=False, clamp_result=False)
+    g.feed(n.inputs[0], fac)
+    g.feed(n.inputs[6], a)
+    g.feed(n.inputs[7], b)
+    return n.outputs[2]
+
+
+# --- the group's sockets -------------------------------------------------------
+
+def _inputs(group, n_lights):
+    new = group.inputs.new
+    new("NodeSocketVector", "UV")
+    new("NodeSocketVector", "Tangent")
+    for name, value in (("Repeats per UV", 40.0), ("World per UV", 1.0),
+                        ("Pixel angle", 1e-3), ("Samples", 16.0), ("Footprint scale", 1.0)):
+        new("NodeSocketFloat", name).default_value = value
+    for l in range(n_lights):
+        new("NodeSocketVector", f"Light {l} vector")
+        new("NodeSocketVector", f"Light {l} irradiance")
+        new("NodeSocketFloat", f"Light {l} point")
+
+
+def _new_group(name, key, n_lights):
+    group = bpy.data.node_groups.new(name, "ShaderNodeTree")
+    group["clothbake_key"] = key
+    _inputs(group, n_lights)
+    group.outputs.new("NodeSocketShader", "Shader")
+    group.outputs.new("NodeSocketColor", "Color")
+    group.outputs.new("NodeSocketFloat", "Alpha")
+    return group
+
+
+# --- direction maths in nodes (core/directions.py, node for node) --------------
+
+def _local(g, frame, d, column):
+    """d in the frame: (d.T, d.B, d.N)."""
+    return (g.vmath("DOT_PRODUCT", d, frame.tangent, column=column),
+            g.vmath("DOT_PRODUCT", d, frame.bitangent, column=column),
+            g.vmath("DOT_PRODUCT", d, frame.normal, column=column))
+
+
+def _hemi(g, x, y, z, column):
+    """The hemi-octahedral (u, v) of (x, y, z)."""
+    l1 = g.math("MAXIMUM", g.math("ADD", g.math("ADD", g.math("ABSOLUTE", x, column=column),
+                                                g.math("ABSOLUTE", y, column=column),
+                                                column=column),
+                                  g.math("ABSOLUTE", z, column=column), column=column),
+                1e-20, column=column)
+    px = g.math("DIVIDE", x, l1, column=column + 1)
+    py = g.math("DIVIDE", y, l1, column=column + 1)
+    u = g.math("MULTIPLY_ADD", g.math("ADD", px, py, column=column + 1), 0.5, 0.5,
+               column=column + 1, clamp=True)
+    v = g.math("MULTIPLY_ADD", g.math("SUBTRACT", px, py, column=column + 1), 0.5, 0.5,
+               column=column + 1, clamp=True)
+    return u, v
+
+
+def _horizon(g, u, v, column):
+    """The horizon warp of the material's light map (directions.horizon_to_grid):
+    the diamond's radius rho goes to 1 - sqrt(1 - rho)."""
+    a = g.math("MULTIPLY_ADD", u, 2.0, -1.0, column=column)
+    b = g.math("MULTIPLY_ADD", v, 2.0, -1.0, column=column)
+    px = g.math("MULTIPLY", g.math("ADD", a, b, column=column), 0.5, column=column)
+    py = g.math("MULTIPLY", g.math("SUBTRACT", a, b, column=column), 0.5, column=column)
+    rho = g.math("ADD", g.math("ABSOLUTE", px, column=column),
+                 g.math("ABSOLUTE", py, column=column), column=column)
+    warped = g.math("SUBTRACT", 1.0, g.math("SQRT", g.math("SUBTRACT", 1.0, g.math(
+        "MINIMUM", rho, 1.0, column=column), column=column, clamp=True), column=column),
+        column=column)
+    scale = g.math("DIVIDE", warped, g.math("MAXIMUM", rho, 1e-12, column=column),
+                   column=column + 1)
+    px = g.math("MULTIPLY", px, scale, column=column + 1)
+    py = g.math("MULTIPLY", py, scale, column=column + 1)
+    return (g.math("MULTIPLY_ADD", g.math("ADD", px, py, column=column + 1), 0.5, 0.5,
+                   column=column + 1, clamp=True),
+            g.math("MULTIPLY_ADD", g.math("SUBTRACT", px, py, column=column + 1), 0.5, 0.5,
+                   column=column + 1, clamp=True))
+
+
+def _pick(g, coord, nodes, xi, column):
+    """Node floor(coord (nodes - 1) + xi), at most nodes - 1: node i0 + 1
+    with probability frac, the bilinear weight."""
+    return g.math("MINIMUM", g.math("FLOOR", g.math("MULTIPLY_ADD", coord, float(nodes - 1),
+                                                    xi, column=column), column=column),
+                  float(nodes - 1), column=column)
+
+
+# --- the steps -------------------------------------------------------------------
+
+def _frame(g, gin):
+    """Step 1: the frame (N, T, B) at the shading point."""
+    geo = g.node("ShaderNodeNewGeometry", 0)
+    facing = geo.outputs["Normal"]                      # toward the viewer (Cycles flips it)
+    flip = g.math("MULTIPLY_ADD", geo.outputs["Backfacing"], -2.0, 1.0, column=1)
+    normal = g.scale(facing, flip, 1)                   # the mesh's own side
+    t_in = gin["Tangent"]
+    tangent = g.vmath("NORMALIZE", g.vmath("SUBTRACT", t_in, g.scale(
+        normal, g.vmath("DOT_PRODUCT", normal, t_in, column=1), 1), column=1), column=1)
+    bitangent = g.vmath("CROSS_PRODUCT", normal, tangent, column=2)
+    return Frame(geo, facing, normal, tangent, bitangent)
+
+
+def _view_direction(g, frame):
+    """Step 1: the direction toward the eye in the frame: (z, its side, u, v)."""
+    vx, vy, vz = _local(g, frame, frame.geometry.outputs["Incoming"], 2)
+    view_side = g.math("LESS_THAN", vz, 0.0, column=3)
+    vu, vv = _hemi(g, vx, vy, vz, 3)
+    return vz, view_side, vu, vv
+
+
+def _randoms(g, position):
+    """Random numbers per shading point: two White Noise nodes, 7 values
+    (xi1..xi7) for the picks of steps 3 to 5."""
+    def noise(offset, column):
+        n = g.node("ShaderNodeTexWhiteNoise", column, noise_dimensions="3D")
+        g.feed(n.inputs["Vector"], g.vmath("ADD", position, offset, column=column))
+        return g.separate(n.outputs["Color"], column=column) + (n.outputs["Value"],)
+
+    xi1, xi2, xi3, xi7 = noise((0.0, 0.0, 0.0), 4)
+    xi4, xi5, xi6, _ = noise((17.13, -3.71, 9.29), 4)
+    return xi1, xi2, xi3, xi4, xi5, xi6, xi7
+
+
+def _view_node(g, k, view_side, vu, vv, xi_i, xi_j):
+    """Step 4: the view node (i, side K + j), picked stochastically."""
+    vi = _pick(g, vu, k, xi_i, 5)
+    vj = _pick(g, vv, k, xi_j, 5)
+    view_row = g.math("MULTIPLY_ADD", view_side, float(k), vj, column=6)   # side K + j
+    return vi, view_row
+
+
+def _level(g, gin, info, position, vz, xi):
+    """Step 3: the level from the footprint, picked stochastically between
+    the two around it; returns (S_L, P_L, Y_L) of the pack's layout."""
+    k, r = info.k, info.texels
+    cam_point = g.node("ShaderNodeVectorTransform", 4, vector_type="POINT",
+                       convert_from="WORLD", convert_to="CAMERA")
+    g.feed(cam_point.inputs["Vector"], position)
+    distance = g.vmath("LENGTH", cam_point.outputs["Vector"], column=5)
+    cos_view = g.math("MAXIMUM", g.math("ABSOLUTE", vz, column=5), 0.02, column=5)
+    texels_per_world = g.math("DIVIDE", g.math("MULTIPLY", gin["Repeats per UV"], float(r),
+                                               column=5), gin["World per UV"], column=5)
+    footprint = g.math("MULTIPLY", g.math("MULTIPLY", distance, gin["Pixel angle"], column=6),
+                       texels_per_world, column=6)
+    footprint = g.math("DIVIDE", footprint, g.math("SQRT", cos_view, column=6), column=6)
+    footprint = g.math("DIVIDE", footprint, g.math("SQRT", g.math("MAXIMUM", gin["Samples"], 1.0,
+                                                                  column=6), column=6), column=6)
+    footprint = g.math("MULTIPLY", footprint, gin["Footprint scale"], column=7)
+    level = g.math("MINIMUM", g.math("LOGARITHM", g.math("MAXIMUM", footprint, 1.0, column=7), 2.0,
+                                     column=7), float(info.levels - 1), column=7)
+    level = g.math("MINIMUM", g.math("FLOOR", g.math("ADD", level, xi, column=8), column=8),
+                   float(info.levels - 1), column=8)
+    half_pow = g.math("POWER", 0.5, level, column=8)
+    side_texels = g.math("MULTIPLY", half_pow, float(r), column=9)           # S_L
+    pitch = g.math("ADD", side_texels, 2.0, column=9)                        # P_L
+    y_level = g.math("MULTIPLY", g.math("ADD", g.math("MULTIPLY", g.math(
+        "SUBTRACT", 1.0, half_pow, column=9), 2.0 * r, column=9), g.math(
+        "MULTIPLY", level, 2.0, column=9), column=9), 2.0 * k, column=10)   # Y_L
+    return side_texels, pitch, y_level
+
+
+def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y):
+    """Steps 2 and 4: the texel (periodic, stochastic bilinear) and the
+    address of component 0's tile; returns (uv0, the step to component k)."""
+    vi, view_row = view
+    side_texels, pitch, y_level = level
+    ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
+
+    def texel(coord, xi, column):
+        t = g.math("MULTIPLY", g.math("FRACT", coord, column=column), side_texels, column=column)
+        # pixel centre of texel floor(t - 0.5 + xi), one past the gutter
+        return g.math("ADD", g.math("FLOOR", g.math("ADD", t, g.math("SUBTRACT", xi, 0.5,
+                                                                     column=column),
+                                                    column=column), column=column), 1.5,
+                      column=column)
+
+    tx = texel(ux, xi_x, 10)
+    ty = texel(uy, xi_y, 10)
+    px0 = g.math("MULTIPLY_ADD", vi, pitch, tx, column=11)
+    py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch, ty, column=11), y_level, column=11)
+    uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
+                    g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
+    # component k at + (k % per_row) K P_L across and (k // per_row) bands up
+    step = g.combine(g.math("MULTIPLY", pitch, float(k) / pack.width, column=12),
+                     float(pack.band) / pack.height, 0.0, column=12)
+    return uv0, step
+
+
+def _light(g, gin, l, frame, position, view, light_map, pack, lit, xis, col):
+    """Step 5 for light l: its direction and irradiance at the point and
+    its light factors' address. Returns (LightTerm, the cycles-lit
+    denominator's term E cos, or None on route exact)."""
+    vi, view_row = view
+    m = pack.dense
+    q = m + 2
+    vec, irr, is_point = (gin[f"Light {l} vector"], gin[f"Light {l} irradiance"],
+                          gin[f"Light {l} point"])
+    to_point = g.vmath("SUBTRACT", vec, position, column=col)
+    direction = g.vmath("NORMALIZE", g.vmath("ADD", vec, g.scale(g.vmath(
+        "SUBTRACT", to_point, vec, column=col), is_point, col), column=col), column=col)
+    r2 = g.math("MAXIMUM", g.vmath("DOT_PRODUCT", to_point, to_point, column=col), 1e-12,
+                column=col)
+    atten = g.math("ADD", g.math("MULTIPLY", is_point, g.math("SUBTRACT", g.math(
+        "DIVIDE", 1.0, r2, column=col), 1.0, column=col), column=col), 1.0, column=col)
+    irradiance = _mix(g, "ADD", BLACK, irr, atten, col)
+    lx, ly, lz = _local(g, frame, direction, col + 1)
+    light_side = g.math("LESS_THAN", lz, 0.0, column=col + 1)
+    lu, lv = _hemi(g, lx, ly, lz, col + 1)
+    if light_map == HORIZON:
+        lu, lv = _horizon(g, lu, lv, col + 2)
+    la = _pick(g, lu, m, xis[0], col + 3)
+    lb = _pick(g, lv, m, xis[1], col + 3)
+    # tile of (view_side, i, j), group 0, light side; pixel centre of (a, b)
+    lpx = g.math("ADD", g.math("MULTIPLY", g.math("MULTIPLY_ADD", vi, 2.0, light_side,
+                                                  column=col + 4), float(q), column=col + 4),
+                 g.math("ADD", la, 1.5, column=col + 4), column=col + 4)
+    lpy = g.math("ADD", g.math("MULTIPLY", view_row, float(q), column=col + 4),
+                 g.math("ADD", lb, 1.5, column=col + 4), column=col + 4)
+    luv = g.combine(g.math("DIVIDE", lpx, float(pack.light_width), column=col + 5),
+                    g.math("DIVIDE", lpy, float(pack.light_height), column=col + 5), 0.0,
+                    column=col + 5)
+    if not lit:
+        return LightTerm(luv, [(irradiance, 0)]), None
+    cos_l = g.vmath("DOT_PRODUCT", direction, frame.facing, column=col + 5)
+    front = g.math("GREATER_THAN", cos_l, 0.0, column=col + 5)
+    e_front = _mix(g, "ADD", BLACK, irradiance, front, col + 5)
+    e_back = _mix(g, "SUBTRACT", irradiance, e_front, 1.0, col + 5)
+    term = _mix(g, "ADD", BLACK, e_front, g.math("MAXIMUM", cos_l, 0.0, column=col + 5), col + 5)
+    return LightTerm(luv, [(e_front, 0), (e_back, 1)]), term
+
+
+def _lights(g, gin, frame, position, view, info, pack, n_lights, lit, xis, col):
+    """Step 5 for every light: ([LightTerm], cycles-lit denominator or
+    None, the next free column)."""
+    per_light, denom = [], None
+    for l in range(n_lights):
+        light, term = _light(g, gin, l, frame, position, view, info.light_map, pack, lit, xis,
+                             col)
+        per_light.append(light)
+        if term is not None:
+            denom = term if denom is None else _mix(g, "ADD", denom, term, 1.0, col + 6)
+        col += 7
+    return per_light, denom, col
+
+
+def _factor_reads(g, gi, per_light, light_image, k, pack, col):
+    """Each light's factors of components 4 gi .. 4 gi + 3: (R, G, B, A)."""
+    q = pack.dense + 2
+    factors = []
+    for l, light in enumerate(per_light):
+        tex = g.node("ShaderNodeTexImage", col, image=light_image,
+                     interpolation="Closest", extension="EXTEND",
+                     label=f"light {l} factors {4 * gi}..{4 * gi + 3}")
+        g.feed(tex.inputs["Vector"], g.vmath("ADD", light.uv, (gi * 2.0 * k * q / pack.light_width,
+                                                               0.0, 0.0), column=col))
+        r, gg, b = g.separate(tex.outputs["Color"], column=col + 1)
+        factors.append((r, gg, b, tex.outputs["Alpha"]))
+    return factors
+
+
+def _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col):
+    """Component kk (channel c of its group's factors): its coefficients
+    read, times each light's W_k, added into `sums`. Returns the read's
+    alpha output."""
+    uv0, step = address
+    where = uv0
+    if kk:
+        n = g.node("ShaderNodeVectorMath", col + 2, operation="MULTIPLY_ADD")
+        g.feed(n.inputs[0], step)
+        g.feed(n.inputs[1], (float(kk % pack.per_row), float(kk // pack.per_row), 0.0))
+        g.feed(n.inputs[2], uv0)
+        where = n.outputs["Vector"]
+    tex = g.node("ShaderNodeTexImage", col + 3, image=coeff_image,
+                 interpolation="Closest", extension="EXTEND", label=f"component {kk}")
+    g.feed(tex.inputs["Vector"], where)
+    weights = [None, None]
+    for light, f in zip(per_light, factors):
+        for e, which in light.parts:
+            weights[which] = _mix(g, "ADD", weights[which] or BLACK, e, f[c], col + 4)
+    for which in (0, 1):
+        if weights[which] is not None:
+            term = _mix(g, "MULTIPLY", tex.outputs["Color"], weights[which], 1.0, col + 5)
+            sums[which] = term if sums[which] is None else \
+                _mix(g, "ADD", sums[which], term, 1.0, col + 5)
+    return tex.outputs["Alpha"]
+
+
+def _components(g, images, address, per_light, k, pack, col):
+    """Step 6: per group of four components, each light's factors, then the
+    four coefficients, summed at once. Nodes are made in this order because
+    Cycles compiles them in creation order and keeps a value on its SVM
+    stack (255 floats) until its last user: all W_k first, then all C_k,
+    overflowed the stack at rank 24 on the cycles-lit route ("out of SVM
+    stack space": a black cloth). Returns ([radiance (front when lit),
+    radiance from behind], alpha, the next free column)."""
+    coeff_image, light_image = images
+    sums = [None, None]
+    alpha = None
+    for gi in range(pack.groups):
+        factors = _factor_reads(g, gi, per_light, light_image, k, pack, col)
+        for c in range(4):
+            kk = 4 * gi + c
+            if kk >= pack.rank:
+                break
+            a = _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col)
+            if kk == 0:
+                alpha = a
+        col += 6
+    return sums, alpha, col
+
+
+def _shaders(g, sums, alpha, denom, lit, col):
+    """Step 6's closures into the group's outputs: Emission (+ Diffuse when
+    lit) + Transparent(1 - A); Color the radiance, Alpha A."""
+    radiance, radiance_back = sums
+    zero = (0.0, 0.0, 0.0)
+    radiance = g.vmath("MAXIMUM", radiance if radiance is not None else zero, zero,
+                       column=col + 4)
+    out = g.node("NodeGroupOutput", col + 8)
+    transparent = g.node("ShaderNodeBsdfTransparent", col + 6)
+    g.feed(transparent.inputs["Color"], g.math("SUBTRACT", 1.0, alpha, column=col + 5,
+                                               clamp=True))
+    if lit:
+        radiance_back = g.vmath("MAXIMUM", radiance_back if radiance_back is not None else zero,
+                                zero, column=col + 4)
+        safe = g.vmath("MAXIMUM", denom if denom is not None else zero, (1e-6,) * 3,
+                       column=col + 4)
+        colour = g.scale(g.vmath("DIVIDE", radiance, safe, column=col + 5), math.pi, col + 5)
+        diffuse = g.node("ShaderNodeBsdfDiffuse", col + 6)
+        g.feed(diffuse.inputs["Color"], colour)
+        emission = g.node("ShaderNodeEmission", col + 6)
+        g.feed(emission.inputs["Color"], radiance_back)
+        add1 = g.node("ShaderNodeAddShader", col + 7)
+        g.links.new(diffuse.outputs[0], add1.inputs[0])
+        g.links.new(emission.outputs[0], add1.inputs[1])
+        color_out = g.vmath("ADD", radiance, radiance_back, column=col + 5)
+    else:
+        emission = g.node("ShaderNodeEmission", col + 6)
+        g.feed(emission.inputs["Color"], radiance)
+        add1 = emission
+        color_out = radiance
+    add = g.node("ShaderNodeAddShader", col + 7)
+    g.links.new(add1.outputs[0], add.inputs[0])
+    g.links.new(transparent.outputs[0], add.inputs[1])
+    g.links.new(add.outputs[0], out.inputs["Shader"])
+    g.links.new(color_out, out.inputs["Color"])
+    g.links.new(alpha, out.inputs["Alpha"])
+
+
+def _replace_old(name, group):
+    """Every user of an older group of this name moved onto `group`, which
+    takes the name (removing it would leave other objects' group nodes
+    empty: a black plane once the sphere beside it was applied)."""
+    old = bpy.data.node_groups.get(name)
+    if old is not None and old != group:
+        old.user_remap(group)
+        bpy.data.node_groups.remove(old)
+        group.name = name
+
+
+def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
+    """The node group, reused when one of this name was built from the same
+    pack; else built anew (the steps of the module docstring, in order) and
+    every material of the old one moved onto it."""
+    key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {n_lights} {route} " \
+          f"{pack.width}x{pack.height}"
+    old = bpy.data.node_groups.get(name)
+    if old is not None and old.get("clothbake_key") == key:
+        return old
+    group = _new_group(name, key, n_lights)
+    g = Graph(group)
+    gin = g.node("NodeGroupInput", 0).outputs
+    lit = route == "cycles-lit"
+    frame = _frame(g, gin)
+    position = frame.geometry.outputs["Position"]
+    vz, view_side, vu, vv = _view_direction(g, frame)
+    xi1, xi2, xi3, xi4, xi5, xi6, xi7 = _randoms(g, position)
+    view = _view_node(g, info.k, view_side, vu, vv, xi1, xi2)
+    level = _level(g, gin, info, position, vz, xi3)
+    address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5)
+    per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, n_lights, lit,
+                                    (xi6, xi7), 13)
+    sums, alpha, col = _components(g, (coeff_image, light_image), address, per_light, info.k,
+                                   pack, col)
+    _shaders(g, sums, alpha, denom, lit, col)
+    _replace_old(name, group)
+    return group

@@ -1,0 +1,84 @@
+"""Running the program (clothbake.core.program) against a stand-in program:
+progress lines, the error message, a job polled to its end, a job killed
+and what it left cleaned up."""
+import os
+import sys
+import time
+
+import pytest
+
+from clothbake.core import program
+from clothbake.core.defaults import folder_siblings
+from clothbake.core.errors import ClothbakeError
+
+
+def _fake(tmp_path, body):
+    """A stand-in program: a Python script with `body`."""
+    path = tmp_path / "fake.py"
+    path.write_text("import sys, time\n" + body)
+    return [sys.executable, str(path)]
+
+
+def test_progress_and_error_lines():
+    m = program.PROGRESS.match("material  42% 1.3s")
+    assert m is not None and m.group(1) == "42"
+    assert program.PROGRESS.match("baked 42%") is None
+    assert program.program_error(["bake  10%", "clothbake: error: a.json: b: bad"], "bake",
+                                 1) == "a.json: b: bad"
+    assert program.program_error(["x", "", "y"], "bake", 3) == \
+        "clothbake bake failed (exit status 3): x | y"
+
+
+def test_run_returns_stdout_or_raises(tmp_path):
+    assert program.run(_fake(tmp_path, "print('out')"), "render") == "out\n"
+    with pytest.raises(ClothbakeError, match="^a: b: no$"):
+        program.run(_fake(tmp_path, "print('clothbake: error: a: b: no', file=sys.stderr);"
+                                    "sys.exit(2)"), "render")
+    with pytest.raises(ClothbakeError, match="cannot run the clothbake program"):
+        program.run([str(tmp_path / "missing")], "render")
+
+
+def test_job_polled_to_its_end(tmp_path):
+    job = program.Job(_fake(tmp_path, "for p in (10, 60):\n"
+                                      "    print(f'bake {p}%', file=sys.stderr, flush=True)\n"),
+                      str(tmp_path / "out"))
+    deadline = time.time() + 30
+    code = None
+    while code is None and time.time() < deadline:
+        time.sleep(0.05)
+        code = job.poll()
+    assert code == 0 and job.progress == 0.6 and job.lines == ["bake 10%", "bake 60%"]
+    code, lines = program.run_job(_fake(tmp_path, "print('material 5%', file=sys.stderr)"))
+    assert code == 0 and lines == ["material 5%"]
+
+
+@pytest.mark.parametrize("existing", [False, True])
+def test_a_killed_job_leaves_nothing(tmp_path, existing):
+    out = str(tmp_path / "bake")
+    if existing:
+        os.makedirs(out)
+    # The stand-in writes as the program does: NAME.tmp-PID, and the old
+    # folder set aside as NAME.old-PID half-way through the swap.
+    job = program.Job(_fake(tmp_path, f"""import os
+out = {out!r}
+tmp, old = out + '.tmp-' + str(os.getpid()), out + '.old-' + str(os.getpid())
+os.makedirs(tmp)
+if os.path.isdir(out):
+    os.rename(out, old)
+print('bake 5%', file=sys.stderr, flush=True)
+time.sleep(60)
+"""), out)
+    deadline = time.time() + 30
+    while job.progress == 0 and time.time() < deadline:
+        time.sleep(0.05)
+        job.poll()
+    job.cancel()
+    temp, old = folder_siblings(out, job.proc.pid)
+    assert not os.path.exists(temp) and not os.path.exists(old)
+    assert os.path.isdir(out) == existing
+
+
+def test_estimate_text():
+    assert program.estimate_text(42, 3 * 2**20) == "about 42 s, 3 MiB"
+    assert program.estimate_text(600, 10, bound="up to ") == "about 10 min, up to 1 MiB"
+    assert program.duration_text(7200) == "2.0 h"
