@@ -113,8 +113,10 @@ def _uv_map_to_use(obj, route):
 
 
 def _fill_material_tree(tree, group, uv_name):
-    """The material's own nodes: the group fed the UV map and its tangent,
-    into the Material Output. Returns the group node."""
+    """The material's own nodes: the group fed the UV map, its tangent and
+    its signed bitangent (a Normal Map node in tangent space fed
+    (0.5, 1, 0.5): the tangent space's sign, live under modifiers and
+    animation), into the Material Output. Returns the group node."""
     if tree.animation_data:
         tree.animation_data_clear()
     tree.nodes.clear()
@@ -128,8 +130,15 @@ def _fill_material_tree(tree, group, uv_name):
     tangent.direction_type = "UV_MAP"
     tangent.uv_map = uv_name
     tangent.location = (-300, -100)
+    bitangent = tree.nodes.new("ShaderNodeNormalMap")
+    bitangent.space = "TANGENT"
+    bitangent.uv_map = uv_name
+    bitangent.label = "signed bitangent"
+    bitangent.inputs["Color"].default_value = (0.5, 1.0, 0.5, 1.0)
+    bitangent.location = (-300, -300)
     tree.links.new(uv.outputs["UV"], node.inputs["UV"])
     tree.links.new(tangent.outputs["Tangent"], node.inputs["Tangent"])
+    tree.links.new(bitangent.outputs["Normal"], node.inputs["Bitangent"])
     return node
 
 

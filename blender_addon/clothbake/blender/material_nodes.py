@@ -2,7 +2,10 @@
 that Cycles, Eevee and the viewport's Material Preview all run. Nothing is
 stored per face. Per shading point the group computes, one function a step:
   1. the frame (_frame): N the true normal (Geometry's, unflipped with
-     Backfacing), T the UV map's tangent made orthogonal to N, B = N x T;
+     Backfacing), T the UV map's tangent made orthogonal to N, B = s N x T
+     with s = +-1 the UV map's handedness there (the sign of a Normal Map
+     node's signed bitangent, below), so B follows dP/dv on islands laid
+     against the face winding too;
      the directions toward the eye (_view_direction) and toward each light
      (_light) in that frame;
   2. where in the repeat (_texel_address): the UV map x repeats per UV, its
@@ -49,7 +52,7 @@ import bpy
 from ..core.material_manifest import HORIZON
 from .graph import Graph
 
-GROUP_VERSION = 1
+GROUP_VERSION = 2
 BLACK = (0.0, 0.0, 0.0, 1.0)
 
 # The frame of step 1: `facing` is Geometry's normal (toward the viewer),
@@ -81,6 +84,7 @@ def _inputs(group, n_lights):
     new = group.inputs.new
     new("NodeSocketVector", "UV")
     new("NodeSocketVector", "Tangent")
+    new("NodeSocketVector", "Bitangent")
     for name, value in (("Repeats per UV", 40.0), ("World per UV", 1.0),
                         ("Pixel angle", 1e-3), ("Samples", 16.0), ("Footprint scale", 1.0)):
         new("NodeSocketFloat", name).default_value = value
@@ -158,7 +162,16 @@ def _pick(g, coord, nodes, xi, column):
 # --- the steps -------------------------------------------------------------------
 
 def _frame(g, gin):
-    """Step 1: the frame (N, T, B) at the shading point."""
+    """Step 1: the frame (N, T, B) at the shading point.
+
+    The Tangent node (input Tangent) is dP/du with no sign. Input
+    Bitangent is a Normal Map node's output (tangent space, the same UV
+    map) for the colour (0.5, 1, 0.5): MikkTSpace's signed bitangent,
+    along dP/dv, negated on back faces by Cycles and Eevee alike. Its side
+    of N x T, unflipped with Backfacing, is the handedness s; B = s N x T.
+    Where the UVs run with the face winding s is exactly 1 and B is N x T
+    bit for bit; a Normal Map node that finds no tangents returns the
+    normal, s = 1 (the old frame)."""
     geo = g.node("ShaderNodeNewGeometry", 0)
     facing = geo.outputs["Normal"]                      # toward the viewer (Cycles flips it)
     flip = g.math("MULTIPLY_ADD", geo.outputs["Backfacing"], -2.0, 1.0, column=1)
@@ -166,7 +179,12 @@ def _frame(g, gin):
     t_in = gin["Tangent"]
     tangent = g.vmath("NORMALIZE", g.vmath("SUBTRACT", t_in, g.scale(
         normal, g.vmath("DOT_PRODUCT", normal, t_in, column=1), 1), column=1), column=1)
-    bitangent = g.vmath("CROSS_PRODUCT", normal, tangent, column=2)
+    cross = g.vmath("CROSS_PRODUCT", normal, tangent, column=2)
+    side = g.math("MULTIPLY", g.vmath("DOT_PRODUCT", gin["Bitangent"], cross, column=2), flip,
+                  column=2)
+    handedness = g.math("MULTIPLY_ADD", g.math("LESS_THAN", side, 0.0, column=2), -2.0, 1.0,
+                        column=2)
+    bitangent = g.scale(cross, handedness, 2)
     return Frame(geo, facing, normal, tangent, bitangent)
 
 

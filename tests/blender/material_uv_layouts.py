@@ -1,0 +1,329 @@
+"""Headless Blender 3.4 test of the cloth material's frame on every UV
+layout (issue 22, item 1): islands laid with the face winding, mirrored
+against it, rotated in UV space, laid clockwise, and both orientations in
+one mesh, each against `clothbake lookup-render` of the same scene and
+material. lookup-render's frame comes from the patch's dP/du and dP/dv,
+so its weave's warp direction follows dP/dv on any layout; the material in
+Blender must too (B = s N x T, s the UV map's handedness: material_nodes).
+
+One small twill material (twill_2_1 of the paper cloth, blue weft: its
+diagonal and its two colours show a mirrored frame) baked from a flat
+cloth. Each case is a mesh made as an artist makes one: a Grid primitive
+(its UVs scaled -1, rotated 90 degrees, or both, in place), a half Grid
+under a Mirror modifier with Mirror U (a symmetric garment: one half's
+UVs mirrored, both orientations in one evaluated mesh), an open Cylinder
+primitive (a sleeve: curved, its inside seen as back faces) with its UVs
+mirrored. The scene goes out through the add-on's exporter (the evaluated
+mesh, so the Mirror modifier's half is in it) for lookup-render; the same
+Blender scene is rendered in Cycles on the exact route (two seeds), and
+the mixed mesh in Eevee too.
+
+Bounds as in material_routes.py: the render's noise sigma from two seeds
+(Eevee: SPP against 2 SPP samples), the reference's taken as the same;
+a case passes when its relative RMSE is at most 3 sqrt(2) sigma plus the
+stated systematic part (the dense light grid and the rank kept against
+lookup-render's full lookup; Eevee's float16 textures and hashed alpha),
+at full resolution and over 4 x 4 blocks. With the old frame (B = N x T
+everywhere) the mirrored cases measured 3 to 6 times their bound.
+
+    blender -b --factory-startup --python-exit-code 1 -P material_uv_layouts.py -- \
+        CLOTHBAKE_EXE SOURCE_DIR WORK_DIR
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
+
+import OpenImageIO as oiio  # noqa: E402
+
+SPP = 32
+REPEATS = 12    # per UV on the 2 x 2 flat cloth the material is baked from
+SYS = 0.01
+SYS_EEVEE = 0.015
+
+BASE = {
+    "camera": {"position": [0.0, -2.4, 1.8], "look_at": [0.0, 0.0, 0.0], "up": [0, 0, 1],
+               "fov_deg": 45, "fov_axis": "horizontal", "resolution": [160, 100]},
+    "lights": [
+        {"type": "directional", "direction": [0.35, 0.5, -0.8], "color": [1.0, 0.97, 0.92],
+         "intensity": 3.0},
+        {"type": "point", "position": [-1.3, -0.9, 1.1], "color": [0.85, 0.9, 1.0],
+         "intensity": 2.0},
+    ],
+    "background": [0.0, 0.0, 0.0],
+    "render": {"spp": SPP, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
+               "transmittance": "shadow-march", "shading": "fiber", "cutoff": 0.001, "seed": 1},
+}
+
+
+def run(args):
+    p = subprocess.run([CLOTHBAKE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True)
+    if p.returncode != 0:
+        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
+    return p.stdout
+
+
+def pixels(path):
+    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
+
+
+def rel_rmse(a, b):
+    a, b = a[..., :3], b[..., :3]
+    return float(np.sqrt(((a - b) ** 2).mean()) / max(1e-12, a.mean()))
+
+
+def blocks(image, k=4):
+    h, w = image.shape[0] // k * k, image.shape[1] // k * k
+    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
+
+
+def render(path, seed):
+    scene = bpy.context.scene
+    scene.cycles.seed = seed
+    bpy.ops.render.render(write_still=False)
+    bpy.data.images["Render Result"].save_render(path, scene=scene)
+    return pixels(path)
+
+
+class Noisy:
+    def __init__(self, a, b, spread=math.sqrt(2.0)):
+        self.image = a
+        self.sigma = rel_rmse(a, b) / spread
+        self.sigma4 = rel_rmse(blocks(a), blocks(b)) / spread
+
+
+def compare(what, noisy, reference, systematic):
+    """Relative RMSE per pixel and over 4 x 4 blocks against 3 standard
+    deviations of the difference (the reference's noise taken as the
+    render's) plus the systematic part."""
+    out = []
+    for label, a, b, sigma in (("pixels", reference, noisy.image, noisy.sigma),
+                               ("4x4 blocks", blocks(reference), blocks(noisy.image),
+                                noisy.sigma4)):
+        err = rel_rmse(a, b)
+        bound = 3.0 * math.sqrt(2.0) * sigma + systematic
+        check(err <= bound, f"{what}, {label}: relative RMSE {err:.4f} <= {bound:.4f} "
+                            f"(noise {sigma:.4f}, systematic {systematic:.3f})")
+        out.append((err, bound))
+    return out
+
+
+def against_winding(obj):
+    """The fraction of the evaluated mesh's triangles whose UVs run against
+    the face winding (UV signed area < 0 seen from the face normal)."""
+    dg = bpy.context.evaluated_depsgraph_get()
+    ob = obj.evaluated_get(dg)
+    mesh = ob.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        uv = mesh.uv_layers.active.data
+        neg = 0
+        for tri in mesh.loop_triangles:
+            t = [uv[i].uv for i in tri.loops]
+            a = (t[1] - t[0]).cross(t[2] - t[0])
+            neg += a < 0
+        return neg / max(1, len(mesh.loop_triangles))
+    finally:
+        ob.to_mesh_clear()
+
+
+# --- the meshes, made with Blender's own tools ---------------------------------
+
+def grid():
+    """The Grid primitive, 2 x 2, 8 x 8 quads, its UVs as generated."""
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8, size=2.0,
+                                    calc_uvs=True)
+    return bpy.context.active_object
+
+
+def transform_uvs(obj, f, faces=None):
+    """UV' = f(UV) about the island's centre (0.5, 0.5) on `faces` (all
+    when None): the UV editor's Scale -1 / Rotate 90, done on the data."""
+    mesh = obj.data
+    uv = mesh.uv_layers.active.data
+    for poly in mesh.polygons:
+        if faces is not None and poly.index not in faces:
+            continue
+        for li in poly.loop_indices:
+            u, v = uv[li].uv
+            uv[li].uv = [c + 0.5 for c in f(u - 0.5, v - 0.5)]
+
+
+def half_grid_mirrored():
+    """Half a Grid (x in [0, 1], 4 x 8 quads, scaled in Object Mode and the
+    scale applied; its UVs squared up); mirror_modifier adds the other half."""
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=4, y_subdivisions=8, size=2.0,
+                                    calc_uvs=True)
+    obj = bpy.context.active_object
+    obj.location = (0.5, 0.0, 0.0)
+    obj.scale = (0.5, 1.0, 1.0)
+    bpy.ops.object.transform_apply(location=True, rotation=False, scale=True)
+    square_up(obj)
+    return obj
+
+
+def mirror_modifier(obj):
+    """A Mirror modifier on X as a symmetric garment is modelled: the
+    mirrored half shares the UVs (Mirror U off), so its island runs against
+    its (reversed) winding."""
+    mod = obj.modifiers.new("mirror", "MIRROR")
+    mod.use_axis = (True, False, False)
+
+
+def sleeve():
+    """An open Cylinder primitive lying along x (a sleeve), 16 sides."""
+    bpy.ops.mesh.primitive_cylinder_add(vertices=16, radius=0.45, depth=1.8,
+                                        end_fill_type="NOTHING", calc_uvs=True,
+                                        rotation=(0.0, math.pi / 2, 0.0), location=(0, 0, 0.2))
+    obj = bpy.context.active_object
+    bpy.ops.object.transform_apply(location=True, rotation=True, scale=True)
+    square_up(obj)
+    return obj
+
+
+def square_up(obj):
+    """Scales the UVs in V about their centre so that a UV unit spans as
+    much surface along V as along U (the UV editor's Scale Y that takes the
+    stretch out): the material picks its level from the mean world units
+    per UV, and a weave stretched one way only is a different test."""
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    uv = mesh.uv_layers.active.data
+    su = sv = 0.0
+    for tri in mesh.loop_triangles:
+        p = [mesh.vertices[i].co for i in tri.vertices]
+        t = [uv[i].uv for i in tri.loops]
+        e1, e2 = p[1] - p[0], p[2] - p[0]
+        d1, d2 = t[1] - t[0], t[2] - t[0]
+        det = d1.x * d2.y - d1.y * d2.x
+        if abs(det) < 1e-12:
+            continue
+        dpdu = (e1 * d2.y - e2 * d1.y) / det
+        dpdv = (e2 * d1.x - e1 * d2.x) / det
+        su += dpdu.length * tri.area
+        sv += dpdv.length * tri.area
+    k = sv / su
+    vs = [uv[i].uv.y for i in range(len(uv))]
+    mid = 0.5 * (min(vs) + max(vs))
+    for d in uv:
+        d.uv.y = mid + (d.uv.y - mid) * k
+
+
+def mirror_u(u, v):
+    return -u, v
+
+
+def rotate_90(u, v):
+    return -v, u
+
+
+def clockwise_rotated(u, v):      # rotate 90, then mirror: the transpose
+    return v, u
+
+
+def main():
+    enable_addon()
+    from clothbake.blender.headless import use_eevee
+    from clothbake.blender.material_apply import apply_material, world_per_uv
+    from clothbake.blender.scene_export_bpy import export_scene
+    from clothbake.blender.scene_import import import_scene
+
+    cloth = json.load(open(os.path.join(SOURCE, "testscenes", "paper", "cloth.json")))
+    cloth.update(name="twill", weave={"pattern": "twill_2_1"})
+    cloth["weft"]["color"] = [0.15, 0.35, 0.6]
+    cloth_path = os.path.join(TMP, "twill.json")
+    with open(cloth_path, "w") as f:
+        json.dump(cloth, f, indent=1)
+    flat = os.path.join(TMP, "flat.obj")
+    with open(flat, "w") as f:
+        f.write("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                "f 1/1 2/2 3/3 4/4\n")
+    base = dict(BASE, name="uv_base",
+                objects=[{"name": "cloth", "mesh": flat, "cloth": cloth_path,
+                          "repeats_per_uv": REPEATS, "thickness_world": 0.06,
+                          "extinction_per_mm": 40}])
+    base_path = os.path.join(TMP, "base.json")
+    with open(base_path, "w") as f:
+        json.dump(base, f, indent=1)
+    material = os.path.join(TMP, "material")
+    run(["material", base_path, "-o", material, "--texels", "16", "--directions", "8",
+         "--light-directions", "6", "--spp", "1", "--quiet"])
+
+    # The imported cloth keeps its settings (cloth, repeats, thickness);
+    # each case puts a new mesh into it.
+    (obj,) = import_scene(base_path, clear=True, samples=SPP)
+    scene = bpy.context.scene
+
+    cases = [
+        ("with the winding (Grid as made)", grid, None, 0.0),
+        ("mirrored: UVs scaled -1 in U", grid, mirror_u, 1.0),
+        ("rotated 90 degrees in UV", grid, rotate_90, 0.0),
+        ("laid clockwise: rotated 90 and mirrored", grid, clockwise_rotated, 1.0),
+        ("both orientations: half Grid and a Mirror modifier", half_grid_mirrored,
+         None, 0.5),
+        ("sleeve: open Cylinder, UVs mirrored", sleeve, "mirror", None),
+    ]
+    table = []
+    for i, (what, make, uv_f, expect) in enumerate(cases):
+        made = make()
+        old_mesh, obj.data = obj.data, made.data
+        bpy.data.objects.remove(made)
+        bpy.data.meshes.remove(old_mesh)
+        obj.modifiers.clear()
+        if make is half_grid_mirrored:
+            mirror_modifier(obj)
+        if uv_f == "mirror":
+            # A sleeve as unwrapped runs with its winding; mirror it against.
+            before = against_winding(obj)
+            transform_uvs(obj, mirror_u if before < 0.5 else (lambda u, v: (u, v)))
+        elif uv_f is not None:
+            transform_uvs(obj, uv_f)
+        frac = against_winding(obj)
+        # The weave's depth scale must stay the material's (lookup-render
+        # refuses 5 % off): repeats per UV follow the mesh's world per UV.
+        scale = world_per_uv(obj, obj.data.uv_layers.active.name,
+                             bpy.context.evaluated_depsgraph_get())
+        obj.clothbake.repeats_per_uv = REPEATS * scale / 2.0
+        print(f"{what}: {scale:.4g} world units per UV")
+        if expect is not None:
+            check(abs(frac - expect) < 0.02, f"{what}: {frac:.0%} of the triangles' UVs run "
+                                             f"against the winding (expected {expect:.0%})")
+        else:
+            check(frac > 0.98, f"{what}: {frac:.0%} of the triangles' UVs run against the "
+                               "winding")
+        path = export_scene(scene, os.path.join(TMP, f"case{i}", "scene.json"))
+        ref_path = os.path.join(TMP, f"ref{i}.exr")
+        run(["lookup-render", path, material, "-o", ref_path, "--spp", str(2 * SPP),
+             "--quiet"])
+        ref = pixels(ref_path)
+        apply_material(obj, material, route="exact")
+        scene.render.engine = "CYCLES"
+        a = render(os.path.join(TMP, f"case{i}_s1.exr"), 1)
+        b = render(os.path.join(TMP, f"case{i}_s2.exr"), 2)
+        errs = compare(f"Cycles, {what}", Noisy(a, b), ref, SYS)
+        row = [what, frac, errs]
+        if make is half_grid_mirrored:
+            use_eevee(scene, SPP)
+            ea = render(os.path.join(TMP, f"case{i}_eevee.exr"), 1)
+            use_eevee(scene, 2 * SPP)
+            eb = render(os.path.join(TMP, f"case{i}_eevee2.exr"), 1)
+            row.append(compare(f"Eevee, {what}", Noisy(ea, eb, math.sqrt(1.5)), ref,
+                               SYS_EEVEE))
+            scene.render.engine = "CYCLES"
+        table.append(row)
+    print("case | against winding | Cycles px (bound) | 4x4 (bound) | Eevee px (bound)")
+    for row in table:
+        (e, eb), (e4, eb4) = row[2]
+        extra = f" | {row[3][0][0]:.4f} ({row[3][0][1]:.4f})" if len(row) > 3 else ""
+        print(f"{row[0]} | {row[1]:.0%} | {e:.4f} ({eb:.4f}) | {e4:.4f} ({eb4:.4f}){extra}")
+
+
+run_checks(main)
