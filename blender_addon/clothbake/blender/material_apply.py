@@ -16,7 +16,7 @@ from ..core.material_pack import pack_material, read_material
 from . import patch_nodes
 from .apply import load_data_image
 from .material_drivers import drive_camera, drive_light
-from .material_nodes import build_group
+from .material_nodes import STRETCH_ATTRIBUTE, build_group
 
 ROUTES = ("exact", "cycles-lit")
 
@@ -72,6 +72,59 @@ def world_per_uv(obj, uv_name, depsgraph):
     return math.sqrt(area_w / area_uv)
 
 
+
+
+def write_face_world_per_uv(obj, uv_name):
+    """The UV map's local scale per face, sqrt(world area / UV area) of the
+    face (world space through the object's matrix), stored on the ORIGINAL
+    mesh as the FACE float attribute STRETCH_ATTRIBUTE, which the group's
+    level reads (material_nodes._level). Modifiers after it carry it on
+    (a Subdivision Surface copies each face's value onto its sub-faces, a
+    Mirror onto the mirrored copy); a face whose UVs have no area gets 0,
+    where the group falls back to its World per UV input (the mean). A
+    mesh or UV edit after Apply needs Apply again. Returns the number of
+    faces without a value."""
+    mesh = obj.data
+    layer = mesh.uv_layers.get(uv_name)
+    n_faces = len(mesh.polygons)
+    values = np.zeros(n_faces)
+    mesh.calc_loop_triangles()
+    n = len(mesh.loop_triangles)
+    if n and layer is not None:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+        co = co.reshape(-1, 3)
+        m = np.array(obj.matrix_world)
+        co = co @ m[:3, :3].T + m[:3, 3]
+        tri_v = np.empty(n * 3, np.int64)
+        mesh.loop_triangles.foreach_get("vertices", tri_v)
+        tri_l = np.empty(n * 3, np.int64)
+        mesh.loop_triangles.foreach_get("loops", tri_l)
+        face = np.empty(n, np.int64)
+        mesh.loop_triangles.foreach_get("polygon_index", face)
+        uv = np.empty(len(mesh.loops) * 2)
+        layer.data.foreach_get("uv", uv)
+        uv = uv.reshape(-1, 2)
+        p = co[tri_v.reshape(-1, 3)]
+        t = uv[tri_l.reshape(-1, 3)]
+        a_w = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+        e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+        a_uv = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+        area_w = np.bincount(face, a_w, n_faces)
+        area_uv = np.bincount(face, a_uv, n_faces)
+        ok = area_uv > 1e-12 * np.maximum(area_w, 1e-30)
+        values[ok] = np.sqrt(area_w[ok] / area_uv[ok])
+    attr = mesh.attributes.get(STRETCH_ATTRIBUTE)
+    if attr is not None and (attr.domain != "FACE" or attr.data_type != "FLOAT"):
+        mesh.attributes.remove(attr)
+        attr = None
+    if attr is None:
+        attr = mesh.attributes.new(STRETCH_ATTRIBUTE, "FLOAT", "FACE")
+    attr.data.foreach_set("value", values.astype(np.float32))
+    mesh.update()
+    return int((values == 0).sum())
+
+
 def scene_lights(scene):
     """(sun and point light objects, notes about the others)."""
     lights, notes = [], []
@@ -81,8 +134,10 @@ def scene_lights(scene):
         if obj.data.type in ("SUN", "POINT"):
             lights.append(obj)
         else:
-            notes.append(f"light '{obj.name}' is a {obj.data.type.lower()} light; the material "
-                         "reads sun and point lights only")
+            kind = obj.data.type.lower()
+            notes.append(f"light '{obj.name}' is {'an' if kind[0] in 'aeiou' else 'a'} {kind} "
+                         "light: the material "
+                         "is not lit by it yet (it reads sun and point lights only)")
     lights.sort(key=lambda o: o.name)
     return lights, notes
 
@@ -167,6 +222,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
     info = read_material(folder)
     scale = world_per_uv(obj, uv_name, depsgraph)
+    unmeasured = write_face_world_per_uv(obj, uv_name)
     pack = pack_material(info, rank)
     coeff = load_data_image(pack.coefficients, half=True)
     lights_img = load_data_image(pack.light_factors, half=False)
@@ -208,6 +264,9 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     # the UV map's tangents: a black plane in Material Preview.
     patch_nodes.detach(obj)
 
+    if unmeasured:
+        notes.append(f"{unmeasured} face(s) of '{obj.name}' have no UV area: their weave's "
+                     "level follows the mesh's mean scale")
     depth = _depth_note(obj, info, repeats, thickness, scale)
     if depth:
         notes.append(depth)

@@ -1,6 +1,7 @@
 """The cloth material's node group (docs/material-format.md), plain nodes
 that Cycles, Eevee and the viewport's Material Preview all run. Nothing is
-stored per face. Per shading point the group computes, one function a step:
+stored per face but the UV map's local scale (an attribute read for the
+level). Per shading point the group computes, one function a step:
   1. the frame (_frame): N the true normal (Geometry's, unflipped with
      Backfacing), T the UV map's tangent made orthogonal to N, B = s N x T
      with s = +-1 the UV map's handedness there (the sign of a Normal Map
@@ -35,9 +36,11 @@ behind the surface (light through the cloth) stay Emission.
 The footprint: the distance to the camera (the point in camera space) x
 the camera's pixel angle (sensor width / lens / pixels, a driver on the
 scene's camera and resolution), stretched by 1 / sqrt(cos) of the view's
-tilt, in level-0 texels through the object's world units per UV (the mean
-over its evaluated mesh, measured on Apply: where the UV map stretches the
-weave locally, the level follows the mean), divided by sqrt(samples)
+tilt, in level-0 texels through the world units per UV there: the face's
+sqrt(world area / UV area), a FACE attribute Apply writes on the mesh
+(clothbake's local frame takes the same geometric mean of the two axes);
+where that attribute is missing or 0, the group's World per UV input (the
+mean over the evaluated mesh). Divided by sqrt(samples)
 (Cycles' samples: each sample prefilters its stratum of the pixel).
 
 Node creation order matters, not only the graph: Cycles compiles nodes in
@@ -52,7 +55,8 @@ import bpy
 from ..core.material_manifest import HORIZON
 from .graph import Graph
 
-GROUP_VERSION = 2
+GROUP_VERSION = 3
+STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
 BLACK = (0.0, 0.0, 0.0, 1.0)
 
 # The frame of step 1: `facing` is Geometry's normal (toward the viewer),
@@ -226,8 +230,15 @@ def _level(g, gin, info, position, vz, xi):
     g.feed(cam_point.inputs["Vector"], position)
     distance = g.vmath("LENGTH", cam_point.outputs["Vector"], column=5)
     cos_view = g.math("MAXIMUM", g.math("ABSOLUTE", vz, column=5), 0.02, column=5)
+    # World units per UV here: the face's own (the mesh attribute Apply
+    # writes), else (0: no attribute, or a face without UV area) the input.
+    local = g.node("ShaderNodeAttribute", 4, attribute_type="GEOMETRY",
+                   attribute_name=STRETCH_ATTRIBUTE, label="world per UV, per face")
+    missing = g.math("LESS_THAN", local.outputs["Fac"], 1e-12, column=5)
+    world_per_uv = g.math("MULTIPLY_ADD", missing, gin["World per UV"], local.outputs["Fac"],
+                          column=5)
     texels_per_world = g.math("DIVIDE", g.math("MULTIPLY", gin["Repeats per UV"], float(r),
-                                               column=5), gin["World per UV"], column=5)
+                                               column=5), world_per_uv, column=5)
     footprint = g.math("MULTIPLY", g.math("MULTIPLY", distance, gin["Pixel angle"], column=6),
                        texels_per_world, column=6)
     footprint = g.math("DIVIDE", footprint, g.math("SQRT", cos_view, column=6), column=6)

@@ -36,8 +36,10 @@ def _material_scene_file(scene, folder):
     """The scene file the material bake reads (the cloth object's optics):
     the scene file while it still describes the Blender scene, else a fresh
     export to FOLDER.scene/scene.json. The scene file setting is left as it
-    was (the material folder's default is named after it)."""
-    model = build_model(scene)
+    was (the material folder's default is named after it). Spot and area
+    lights are left out (a material bake needs no lights; a per-scene
+    export still refuses them)."""
+    model = build_model(scene, supported_lights_only=True)
     settings = scene.clothbake
     current = os.path.abspath(bpy.path.abspath(settings.scene_path)) if settings.scene_path \
         else ""

@@ -89,9 +89,15 @@ def mesh_data(obj):
                              e.path, e.field) from None
 
 
-def build_model(scene):
+MATERIAL_LIGHTS = ("SUN", "POINT")
+
+
+def build_model(scene, supported_lights_only=False):
     """The export model of a Blender scene (clothbake.core.scene_export).
-    Raises ClothbakeError naming what cannot be exported."""
+    Raises ClothbakeError naming what cannot be exported. With
+    supported_lights_only (the material bake, which reads the cloth objects
+    only) lights clothbake has no type for (spot, area) are left out
+    instead of refused."""
     hint = hint_scene(scene)
     cam_obj = scene.camera
     if cam_obj is None or cam_obj.type != "CAMERA":
@@ -115,6 +121,8 @@ def build_model(scene):
 
     lights = []
     for index, obj in _lights(scene):
+        if supported_lights_only and obj.data.type not in MATERIAL_LIGHTS:
+            continue
         light_hint = None
         if hint is not None and index is not None and index < len(hint["lights"]):
             light_hint = hint["lights"][index]
