@@ -28,11 +28,13 @@ everywhere) the mirrored cases measured 3 to 6 times their bound.
 
 Then the stretched cases (issue 22, item 2; stretched()): a Grid scaled
 3 x in x with its UVs kept, the open Cylinder as unwrapped, a Grid with
-one island's UVs scaled 0.25, at a 6 x finer weave, each rendered with the
-level from each face's scale (the attribute Apply writes) and from the
-mean (the attribute removed). Measured, printed, and checked only where
-it holds: the remaining error on stretched meshes is the directions'
-(docs/blender-addon.md), which neither scale touches.
+one island's UVs scaled 0.25, at a 6 x finer weave, each against its
+bounds as above, with the level from each face's scale (the attribute
+Apply writes) against the mean (that attribute removed), and with the
+directions carried into the material's frame by each face's per-axis
+scale (the frame-scale attribute) against without it (removed too: the
+old group's directions), which must err at least twice as much over
+4 x 4 blocks.
 
     blender -b --factory-startup --python-exit-code 1 -P material_uv_layouts.py -- \
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR
@@ -386,13 +388,15 @@ def face_scales(obj):
     return values
 
 
-def measure(noisy, reference):
-    """compare()'s figures and bounds, printed, not checked: on stretched
-    meshes the remaining error is the directions' (see stretched())."""
+def measure(what, noisy, reference):
+    """compare()'s figures and bounds, checked; returned for the table."""
     out = []
-    for a, b, sigma in ((reference, noisy.image, noisy.sigma),
-                        (blocks(reference), blocks(noisy.image), noisy.sigma4)):
-        out.append((rel_rmse(a, b), 3.0 * math.sqrt(2.0) * sigma + SYS))
+    for label, a, b, sigma in (("pixels", reference, noisy.image, noisy.sigma),
+                               ("4x4 blocks", blocks(reference), blocks(noisy.image),
+                                noisy.sigma4)):
+        err, bound = rel_rmse(a, b), 3.0 * math.sqrt(2.0) * sigma + SYS
+        check(err <= bound, f"Cycles, {what}, {label}: relative RMSE {err:.4f} <= {bound:.4f}")
+        out.append((err, bound))
     return out
 
 
@@ -456,10 +460,20 @@ def stretched(obj, scene, material, apply_material, world_per_uv, export_scene):
         a = render(os.path.join(TMP, f"stretch{i}_s1.exr"), 1)
         b = render(os.path.join(TMP, f"stretch{i}_s2.exr"), 2)
         noisy = Noisy(a, b)
-        errs = measure(noisy, ref)
+        errs = measure(what, noisy, ref)
         obj.data.attributes.remove(obj.data.attributes["clothbake_world_per_uv"])
         o = render(os.path.join(TMP, f"stretch{i}_mean.exr"), 1)
         old = [(rel_rmse(ref, o), errs[0][1]), (rel_rmse(blocks(ref), blocks(o)), errs[1][1])]
+        frame_scale = obj.data.attributes["clothbake_frame_scale"]
+        saved = np.empty(len(frame_scale.data) * 3, np.float32)
+        frame_scale.data.foreach_get("vector", saved)
+        obj.data.attributes.remove(frame_scale)
+        d = render(os.path.join(TMP, f"stretch{i}_dirs.exr"), 1)
+        dirs = rel_rmse(blocks(ref), blocks(d))
+        check(dirs > 2.0 * errs[1][0], f"{what}: without the per-face frame scale the 4x4 "
+              f"error is {dirs:.4f}, over twice its {errs[1][0]:.4f}")
+        restored = obj.data.attributes.new("clothbake_frame_scale", "FLOAT_VECTOR", "FACE")
+        restored.data.foreach_set("vector", saved)
         if uneven:
             check(errs[0][0] < old[0][0], f"{what}: per pixel the local scale errs less "
                   f"({errs[0][0]:.4f}) than the mean ({old[0][0]:.4f}), same seed")
@@ -467,12 +481,13 @@ def stretched(obj, scene, material, apply_material, world_per_uv, export_scene):
             subsurf_carries(obj)
         else:
             check(np.array_equal(o, a), f"{what}: local = mean, the renders identical")
-        table.append((what, old, errs))
+        table.append((what, old, errs, dirs))
         obj.modifiers.clear()
-    print("stretched case | mean scale: px / 4x4 | local scale: px / 4x4 | bounds px / 4x4")
-    for what, old, new in table:
+    print("stretched case | mean scale: px / 4x4 | local scale: px / 4x4 | bounds px / 4x4 | "
+          "no frame scale: 4x4")
+    for what, old, new, dirs in table:
         print(f"{what} | {old[0][0]:.4f} / {old[1][0]:.4f} | {new[0][0]:.4f} / {new[1][0]:.4f} "
-              f"| {new[0][1]:.4f} / {new[1][1]:.4f}")
+              f"| {new[0][1]:.4f} / {new[1][1]:.4f} | {dirs:.4f}")
 
 
 run_checks(main)

@@ -16,7 +16,7 @@ from ..core.material_pack import pack_material, read_material
 from . import patch_nodes
 from .apply import load_data_image
 from .material_drivers import drive_camera, drive_light
-from .material_nodes import STRETCH_ATTRIBUTE, build_group
+from .material_nodes import FRAME_SCALE_ATTRIBUTE, STRETCH_ATTRIBUTE, build_group
 
 ROUTES = ("exact", "cycles-lit")
 
@@ -123,6 +123,66 @@ def write_face_world_per_uv(obj, uv_name):
     attr.data.foreach_set("value", values.astype(np.float32))
     mesh.update()
     return int((values == 0).sum())
+
+
+def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
+    """The factors that carry a direction in the UV frame (d.T, d.B, d.N)
+    into the material's frame as lookup-render does it (texture mm per world
+    unit along each axis, surface_frame.h, then z over the material's depth
+    scale): per face (e, 1 / e, depth_here / depth_material), e =
+    sqrt(mm_per_world.x / mm_per_world.y), from the UV map's Jacobian
+    (|dP/du|, |dP/dv|, area-weighted over the face's triangles). Stored on the
+    original mesh as the FACE vector attribute FRAME_SCALE_ATTRIBUTE; where
+    the UV map runs square and at the material's depth it is (1, 1, 1). A
+    face without UV area gets (0, 0, 0), read by the group as (1, 1, 1)."""
+    mesh = obj.data
+    layer = mesh.uv_layers.get(uv_name)
+    n_faces = len(mesh.polygons)
+    values = np.zeros((n_faces, 3))
+    mesh.calc_loop_triangles()
+    n = len(mesh.loop_triangles)
+    rx, ry, rz = info.repeat_mm
+    if n and layer is not None and thickness > 0 and info.depth_scale > 0:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+        m = np.array(obj.matrix_world)
+        co = co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+        tri_v = np.empty(n * 3, np.int64)
+        mesh.loop_triangles.foreach_get("vertices", tri_v)
+        tri_l = np.empty(n * 3, np.int64)
+        mesh.loop_triangles.foreach_get("loops", tri_l)
+        face = np.empty(n, np.int64)
+        mesh.loop_triangles.foreach_get("polygon_index", face)
+        uv = np.empty(len(mesh.loops) * 2)
+        layer.data.foreach_get("uv", uv)
+        p = co[tri_v.reshape(-1, 3)]
+        t = uv.reshape(-1, 2)[tri_l.reshape(-1, 3)]
+        e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]], axis=2)        # 3 x 2 world
+        d = np.stack([t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]], axis=2)        # 2 x 2 UV
+        det = d[:, 0, 0] * d[:, 1, 1] - d[:, 0, 1] * d[:, 1, 0]
+        ok = np.abs(det) > 1e-14
+        inv = np.zeros_like(d)
+        inv[ok, 0, 0], inv[ok, 1, 1] = d[ok, 1, 1] / det[ok], d[ok, 0, 0] / det[ok]
+        inv[ok, 0, 1], inv[ok, 1, 0] = -d[ok, 0, 1] / det[ok], -d[ok, 1, 0] / det[ok]
+        jac = e @ inv                                                       # dP/du, dP/dv
+        w = 0.5 * np.abs(det) * ok
+        a_u = np.bincount(face, w * np.linalg.norm(jac[:, :, 0], axis=1), n_faces)
+        a_v = np.bincount(face, w * np.linalg.norm(jac[:, :, 1], axis=1), n_faces)
+        good = (a_u > 0) & (a_v > 0)
+        mx = rx * repeats / np.where(good, a_u, 1.0) * np.bincount(face, w, n_faces)
+        my = ry * repeats / np.where(good, a_v, 1.0) * np.bincount(face, w, n_faces)
+        mz = rz / thickness
+        ex = np.sqrt(np.where(good, mx / np.where(good, my, 1.0), 1.0))
+        depth = mz / np.sqrt(np.where(good, mx * my, 1.0))
+        values[good] = np.stack([ex, 1.0 / ex, depth / info.depth_scale], axis=1)[good]
+    attr = mesh.attributes.get(FRAME_SCALE_ATTRIBUTE)
+    if attr is not None and (attr.domain != "FACE" or attr.data_type != "FLOAT_VECTOR"):
+        mesh.attributes.remove(attr)
+        attr = None
+    if attr is None:
+        attr = mesh.attributes.new(FRAME_SCALE_ATTRIBUTE, "FLOAT_VECTOR", "FACE")
+    attr.data.foreach_set("vector", values.astype(np.float32).ravel())
+    mesh.update()
 
 
 def scene_lights(scene):
@@ -241,6 +301,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     tree = material.node_tree
     node = _fill_material_tree(tree, group, uv_name)
     repeats, thickness = _cloth_settings(obj)
+    write_face_frame_scale(obj, uv_name, info, repeats, thickness)
     node.inputs["Repeats per UV"].default_value = repeats
     node.inputs["World per UV"].default_value = scale
     out = tree.nodes.new("ShaderNodeOutputMaterial")

@@ -55,13 +55,14 @@ import bpy
 from ..core.material_manifest import HORIZON
 from .graph import Graph
 
-GROUP_VERSION = 3
+GROUP_VERSION = 4
 STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
+FRAME_SCALE_ATTRIBUTE = "clothbake_frame_scale"  # likewise: (e, 1 / e, depth ratio) per face
 BLACK = (0.0, 0.0, 0.0, 1.0)
 
 # The frame of step 1: `facing` is Geometry's normal (toward the viewer),
 # `normal` the mesh's own side of it.
-Frame = namedtuple("Frame", "geometry facing normal tangent bitangent")
+Frame = namedtuple("Frame", "geometry facing normal tangent bitangent scale")
 # What the light loop hands the component loop, per light: the light-factor
 # image's address and [(irradiance, accumulator: 0 radiance / front, 1 behind)].
 LightTerm = namedtuple("LightTerm", "uv parts")
@@ -189,14 +190,34 @@ def _frame(g, gin):
     handedness = g.math("MULTIPLY_ADD", g.math("LESS_THAN", side, 0.0, column=2), -2.0, 1.0,
                         column=2)
     bitangent = g.scale(cross, handedness, 2)
-    return Frame(geo, facing, normal, tangent, bitangent)
+    return Frame(geo, facing, normal, tangent, bitangent, _frame_scale(g))
+
+
+def _frame_scale(g):
+    """The per-face factors (sx, sy, sz) that carry (d.T, d.B, d.N) into the
+    material's frame where the UV map stretches one way or the depth
+    differs from the material's (material_apply.write_face_frame_scale);
+    (1, 1, 1) where the attribute is missing or 0."""
+    attr = g.node("ShaderNodeAttribute", 1, attribute_type="GEOMETRY",
+                  attribute_name=FRAME_SCALE_ATTRIBUTE, label="frame scale, per face")
+    sx, sy, sz = g.separate(attr.outputs["Vector"], column=2)
+    missing = g.math("LESS_THAN", sz, 1e-12, column=2)
+    return tuple(g.math("ADD", c, missing, column=2) for c in (sx, sy, sz))
+
+
+def _scaled(g, frame, x, y, z, column):
+    """(x, y, z) in the frame times the face's factors: the hemi-octahedral
+    map divides by the L1 norm, so the product needs no normalising."""
+    sx, sy, sz = frame.scale
+    return (g.math("MULTIPLY", x, sx, column=column), g.math("MULTIPLY", y, sy, column=column),
+            g.math("MULTIPLY", z, sz, column=column))
 
 
 def _view_direction(g, frame):
     """Step 1: the direction toward the eye in the frame: (z, its side, u, v)."""
     vx, vy, vz = _local(g, frame, frame.geometry.outputs["Incoming"], 2)
     view_side = g.math("LESS_THAN", vz, 0.0, column=3)
-    vu, vv = _hemi(g, vx, vy, vz, 3)
+    vu, vv = _hemi(g, *_scaled(g, frame, vx, vy, vz, 3), 3)
     return vz, view_side, vu, vv
 
 
@@ -304,7 +325,7 @@ def _light(g, gin, l, frame, position, view, light_map, pack, lit, xis, col):
     irradiance = _mix(g, "ADD", BLACK, irr, atten, col)
     lx, ly, lz = _local(g, frame, direction, col + 1)
     light_side = g.math("LESS_THAN", lz, 0.0, column=col + 1)
-    lu, lv = _hemi(g, lx, ly, lz, col + 1)
+    lu, lv = _hemi(g, *_scaled(g, frame, lx, ly, lz, col + 1), col + 1)
     if light_map == HORIZON:
         lu, lv = _horizon(g, lu, lv, col + 2)
     la = _pick(g, lu, m, xis[0], col + 3)
