@@ -34,6 +34,27 @@ def uv_map_name(obj):
     return layers.active.name if layers.active else layers[0].name
 
 
+def _triangles(mesh, matrix_world, layer):
+    """The mesh's loop triangles: world positions p (n x 3 x 3), UVs t
+    (n x 3 x 2) on `layer`, and each triangle's face index. The one read of
+    a mesh that the scale and the frame factors below share."""
+    mesh.calc_loop_triangles()
+    n = len(mesh.loop_triangles)
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    m = np.array(matrix_world)
+    co = co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    tri_v = np.empty(n * 3, np.int64)
+    mesh.loop_triangles.foreach_get("vertices", tri_v)
+    tri_l = np.empty(n * 3, np.int64)
+    mesh.loop_triangles.foreach_get("loops", tri_l)
+    face = np.empty(n, np.int64)
+    mesh.loop_triangles.foreach_get("polygon_index", face)
+    uv = np.empty(len(mesh.loops) * 2)
+    layer.data.foreach_get("uv", uv)
+    return co[tri_v.reshape(-1, 3)], uv.reshape(-1, 2)[tri_l.reshape(-1, 3)], face
+
+
 def world_per_uv(obj, uv_name, depsgraph):
     """World units per UV unit over the evaluated mesh: sqrt(world area /
     UV area). Raises ClothbakeError when the UV map has no area."""
@@ -44,23 +65,10 @@ def world_per_uv(obj, uv_name, depsgraph):
         n = len(mesh.loop_triangles)
         if n == 0:
             raise ClothbakeError(f"mesh '{obj.name}' has no faces after its modifiers")
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-        m = np.array(ob_eval.matrix_world)
-        co = co @ m[:3, :3].T + m[:3, 3]
-        tri_v = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("vertices", tri_v)
-        tri_l = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("loops", tri_l)
         layer = mesh.uv_layers.get(uv_name) or mesh.uv_layers.active
         if layer is None:
             raise ClothbakeError(f"mesh '{obj.name}' has no UV map after its modifiers")
-        uv = np.empty(len(mesh.loops) * 2)
-        layer.data.foreach_get("uv", uv)
-        uv = uv.reshape(-1, 2)
-        p = co[tri_v.reshape(-1, 3)]
-        t = uv[tri_l.reshape(-1, 3)]
+        p, t, _ = _triangles(mesh, ob_eval.matrix_world, layer)
         area_w = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1).sum()
         e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
         area_uv = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).sum()
@@ -91,22 +99,7 @@ def write_face_world_per_uv(obj, uv_name):
     mesh.calc_loop_triangles()
     n = len(mesh.loop_triangles)
     if n and layer is not None:
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-        m = np.array(obj.matrix_world)
-        co = co @ m[:3, :3].T + m[:3, 3]
-        tri_v = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("vertices", tri_v)
-        tri_l = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("loops", tri_l)
-        face = np.empty(n, np.int64)
-        mesh.loop_triangles.foreach_get("polygon_index", face)
-        uv = np.empty(len(mesh.loops) * 2)
-        layer.data.foreach_get("uv", uv)
-        uv = uv.reshape(-1, 2)
-        p = co[tri_v.reshape(-1, 3)]
-        t = uv[tri_l.reshape(-1, 3)]
+        p, t, face = _triangles(mesh, obj.matrix_world, layer)
         a_w = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
         e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
         a_uv = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
@@ -143,20 +136,7 @@ def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
     n = len(mesh.loop_triangles)
     rx, ry, rz = info.repeat_mm
     if n and layer is not None and thickness > 0 and info.depth_scale > 0:
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        m = np.array(obj.matrix_world)
-        co = co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
-        tri_v = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("vertices", tri_v)
-        tri_l = np.empty(n * 3, np.int64)
-        mesh.loop_triangles.foreach_get("loops", tri_l)
-        face = np.empty(n, np.int64)
-        mesh.loop_triangles.foreach_get("polygon_index", face)
-        uv = np.empty(len(mesh.loops) * 2)
-        layer.data.foreach_get("uv", uv)
-        p = co[tri_v.reshape(-1, 3)]
-        t = uv.reshape(-1, 2)[tri_l.reshape(-1, 3)]
+        p, t, face = _triangles(mesh, obj.matrix_world, layer)
         e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]], axis=2)        # 3 x 2 world
         d = np.stack([t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]], axis=2)        # 2 x 2 UV
         det = d[:, 0, 0] * d[:, 1, 1] - d[:, 0, 1] * d[:, 1, 0]
