@@ -14,11 +14,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
+#include "io/light_json.h"
 
 namespace clothbake::io {
 namespace {
 
 namespace fs = std::filesystem;
+using Imath::V3f;
 using nlohmann::json;
 
 constexpr int kK = 3;
@@ -513,6 +515,74 @@ TEST_F(LookupIo, SceneFingerprintFollowsWhatABakeComputes) {
   }));
   // What a directional light does not use.
   EXPECT_FALSE(changed([](Scene& s) { s.lights[0].position_world = {9, 9, 9}; }));
+  EXPECT_FALSE(changed([](Scene& s) { s.lights[1].axis_world = {1, 0, 0}; }));
+  // What a spot and an area light use.
+  auto with = [](LightType type) {
+    return [type](Scene& s) {
+      s.lights[1].type = type;
+      return s;
+    };
+  };
+  for (LightType type : {LightType::Spot, LightType::Area}) {
+    Scene s = make_scene();
+    const std::string typed = scene_fingerprint(with(type)(s));
+    EXPECT_NE(typed, h);
+    auto changed_typed = [&](const std::function<void(Scene&)>& edit) {
+      Scene t = make_scene();
+      with(type)(t);
+      edit(t);
+      return scene_fingerprint(t) != typed;
+    };
+    EXPECT_TRUE(changed_typed([](Scene& t) { t.lights[1].axis_world = {1, 0, 0}; }));
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].spot_smooth = 0.3f; }),
+              type == LightType::Spot);
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].spot_cos_half_angle = 0.3f; }),
+              type == LightType::Spot);
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].area_width = 0.3f; }),
+              type == LightType::Area);
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].area_height = 0.3f; }),
+              type == LightType::Area);
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].side_world = {0, 0, 1}; }),
+              type == LightType::Area);
+    EXPECT_EQ(changed_typed([](Scene& t) { t.lights[1].area_shape = AreaShape::Ellipse; }),
+              type == LightType::Area);
+  }
+}
+
+// Every light type's stored spelling reads back bit for bit (a merge writes
+// the manifest's lights again).
+TEST(LightJson, StoredSpellingRoundTrips) {
+  Light spot;
+  spot.type = LightType::Spot;
+  spot.position_world = {0.1f, 0.2f, 3.3f};
+  spot.axis_world = V3f(0.3f, -0.1f, -1.0f).normalized();
+  spot.spot_cos_half_angle = 0.8660254f;
+  spot.spot_smooth = 0.0200957f;
+  spot.color = {1, 0.9f, 0.7f};
+  spot.intensity = 12.5f;
+  Light area;
+  area.type = LightType::Area;
+  area.position_world = {1.0f, -2.0f, 3.0f};
+  area.axis_world = V3f(0.0f, 0.6f, -0.8f);
+  area.side_world = V3f(1.0f, 0.0f, 0.0f);
+  area.area_shape = AreaShape::Ellipse;
+  area.area_width = 0.7f;
+  area.area_height = 0.3f;
+  area.intensity = 3.0f;
+  for (const Light& l : {spot, area}) {
+    const json j = stored_light_json(l);
+    const Light back = read_light(JsonObject(j, "lights[0]", "m.json"), LightSpelling::Stored);
+    EXPECT_EQ(stored_light_json(back), j);
+    EXPECT_EQ(back.type, l.type);
+    EXPECT_EQ(back.axis_world, l.axis_world);
+    EXPECT_EQ(back.position_world, l.position_world);
+    EXPECT_EQ(back.spot_cos_half_angle, l.spot_cos_half_angle);
+    EXPECT_EQ(back.spot_smooth, l.spot_smooth);
+    EXPECT_EQ(back.side_world, l.side_world);
+    EXPECT_EQ(back.area_shape, l.area_shape);
+    EXPECT_EQ(back.area_width, l.area_width);
+    EXPECT_EQ(back.area_height, l.area_height);
+  }
 }
 
 }  // namespace

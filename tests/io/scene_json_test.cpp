@@ -78,7 +78,13 @@ TEST_F(SceneJson, ReadsEveryKey) {
     "lights": [{"type": "directional", "direction": [0, -3, -4], "color": [1, 0.5, 0.25],
                 "intensity": 3},
                {"type": "point", "position": [4, 5, 6], "color": [0.2, 0.3, 0.4],
-                "intensity": 10}],
+                "intensity": 10},
+               {"type": "spot", "position": [0, 0, 4], "direction": [0, 0, -2],
+                "spot_size_deg": 60, "spot_blend": 0.5, "intensity": 7},
+               {"type": "area", "position": [1, 0, 3], "direction": [0, 0, -1],
+                "x_axis": [2, 0, 1], "shape": "ellipse", "size": [2, 0.5], "intensity": 4},
+               {"type": "area", "position": [1, 0, 3], "direction": [0, 0, -1],
+                "x_axis": [0, 1, 0], "shape": "square", "size": 0.25}],
     "objects": [{"name": "cloth", "mesh": "quad.obj", "cloth": "cloth.json",
                  "repeats_per_uv": 20, "thickness_world": 0.02, "extinction_per_mm": 12.5,
                  "isotropic_albedo": [0.5, 0.6, 0.7]},
@@ -97,7 +103,7 @@ TEST_F(SceneJson, ReadsEveryKey) {
   EXPECT_EQ(s.camera.width, 320);
   EXPECT_EQ(s.camera.height, 200);
 
-  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 5u);
   EXPECT_EQ(s.lights[0].type, LightType::Directional);
   // The file gives the direction the light travels; the struct the way back to it.
   EXPECT_FLOAT_EQ(s.lights[0].to_light_world.x, 0.0f);
@@ -108,6 +114,22 @@ TEST_F(SceneJson, ReadsEveryKey) {
   EXPECT_EQ(s.lights[1].type, LightType::Point);
   EXPECT_EQ(s.lights[1].position_world, Imath::V3f(4, 5, 6));
   EXPECT_FLOAT_EQ(s.lights[1].intensity, 10.0f);
+  // A spot: Blender's size (full angle) and blend as Cycles' cosine and band.
+  EXPECT_EQ(s.lights[2].type, LightType::Spot);
+  EXPECT_EQ(s.lights[2].axis_world, Imath::V3f(0, 0, -1));
+  EXPECT_FLOAT_EQ(s.lights[2].spot_cos_half_angle, std::cos(30.0f * 3.14159265f / 180.0f));
+  EXPECT_FLOAT_EQ(s.lights[2].spot_smooth, (1.0f - std::cos(30.0f * 3.14159265f / 180.0f)) * 0.5f);
+  EXPECT_FLOAT_EQ(s.lights[2].intensity, 7.0f);
+  // An area light: the x axis made orthogonal to the normal, the sides as given.
+  EXPECT_EQ(s.lights[3].type, LightType::Area);
+  EXPECT_EQ(s.lights[3].area_shape, AreaShape::Ellipse);
+  EXPECT_EQ(s.lights[3].side_world, Imath::V3f(1, 0, 0));
+  EXPECT_FLOAT_EQ(s.lights[3].area_width, 2.0f);
+  EXPECT_FLOAT_EQ(s.lights[3].area_height, 0.5f);
+  EXPECT_EQ(s.lights[4].area_shape, AreaShape::Rectangle);
+  EXPECT_FLOAT_EQ(s.lights[4].area_width, 0.25f);
+  EXPECT_FLOAT_EQ(s.lights[4].area_height, 0.25f);
+  EXPECT_FLOAT_EQ(s.lights[4].intensity, 1.0f);
 
   ASSERT_EQ(s.objects.size(), 2u);
   EXPECT_EQ(s.objects[0].name, "cloth");
@@ -224,10 +246,11 @@ TEST_F(SceneJson, ErrorsNameTheField) {
             "lights | missing; give at least one light");
   EXPECT_EQ(error_of([](json& s) { s["lights"] = json::array(); }),
             "lights | expected a non-empty array of lights, got an array of 0");
-  EXPECT_EQ(error_of([](json& s) { s["lights"][0]["type"] = "spot"; }),
-            "lights[0].type | unknown light type 'spot'; expected one of: directional, point");
+  EXPECT_EQ(error_of([](json& s) { s["lights"][0]["type"] = "laser"; }),
+            "lights[0].type | unknown light type 'laser'; expected one of: directional, point, "
+            "spot, area");
   EXPECT_EQ(error_of([](json& s) { s["lights"][0].erase("type"); }),
-            "lights[0].type | missing; expected one of: directional, point");
+            "lights[0].type | missing; expected one of: directional, point, spot, area");
   EXPECT_EQ(error_of([](json& s) {
               s["lights"][0]["direction"] = {0, 0, 0};
             }).substr(0, 50),

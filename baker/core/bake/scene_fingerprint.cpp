@@ -102,6 +102,17 @@ std::string scene_fingerprint(const Scene& scene) {
     f.add(l.type == LightType::Directional ? l.to_light_world : l.position_world);
     f.add(l.color);
     f.add(l.intensity);
+    if (l.type == LightType::Spot || l.type == LightType::Area) f.add(l.axis_world);
+    if (l.type == LightType::Spot) {
+      f.add(l.spot_cos_half_angle);
+      f.add(l.spot_smooth);
+    }
+    if (l.type == LightType::Area) {
+      f.add(l.side_world);
+      f.add(int(l.area_shape));
+      f.add(l.area_width);
+      f.add(l.area_height);
+    }
   }
   // Render settings that change a march (not spp: the bake has its own).
   const RenderSettings& s = scene.settings;

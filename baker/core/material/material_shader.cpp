@@ -91,7 +91,7 @@ SurfaceShader material_shader(const ClothScene& prepared,
   const V3f eye = scene.camera.position_world;
   const float stratum = 1.0f / std::sqrt(float(std::max(scene.settings.spp, 1)));
   return [&prepared, &scene, materials, angle, eye, settings, stratum](int o, int q, float s, float t,
-                                                              const V3f& ray_dir_world, Rng&) {
+                                                              const V3f& ray_dir_world, Rng& rng) {
     const ClothMaterial& mat = *materials[size_t(o)];
     const QuadPatch& patch = prepared.patch(o, q);
     const SurfaceFrame frame = patch.frame(s, t);
@@ -113,7 +113,13 @@ SurfaceShader material_shader(const ClothScene& prepared,
     for (const Light& light : scene.lights) {
       if (n == k_max_march_lights) break;
       V3f to_light_world, irradiance;
-      light.illuminate(p_world, to_light_world, irradiance);
+      // One point of an area light per hit, as the reference renderer draws.
+      float u1 = 0.5f, u2 = 0.5f;
+      if (light.sampled()) {
+        u1 = rng.next_float();
+        u2 = rng.next_float();
+      }
+      light.illuminate(p_world, to_light_world, irradiance, u1, u2);
       lights[n].to_light = mat.material_from_texture(frame.texture_from_world(to_light_world));
       lights[n].irradiance = irradiance;
       ++n;

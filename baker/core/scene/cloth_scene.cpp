@@ -68,11 +68,12 @@ void ClothScene::prepare_light_caches() {
   for (Object& obj : m_objects) {
     obj.caches.assign(obj.patches.size() * n_lights, {});
     // One cache per quad and light, for the light direction at the quad's
-    // centre carried into its texture frame.
+    // centre carried into its texture frame. A sampled (area) light's
+    // direction changes with every sample: it marches, and has no cache.
     tbb::parallel_for(size_t(0), obj.patches.size() * n_lights, [&](size_t job) {
       const size_t q = job / n_lights, l = job % n_lights;
       const QuadPatch& patch = obj.patches[q];
-      if (!patch.valid()) return;
+      if (!patch.valid() || m_scene.lights[l].sampled()) return;
       const SurfaceFrame frame = patch.frame(0.5f, 0.5f);
       V3f to_light_world, irradiance;
       m_scene.lights[l].illuminate(patch.position_world(0.5f, 0.5f), to_light_world, irradiance);
@@ -113,17 +114,29 @@ MarchResult ClothScene::shade_surface(int o, int q, float s, float t, const V3f&
   // sequence does not depend on another's geometry.
   const float jitter = rng.next_float();
   const uint64_t seed = rng.next_u64();
+  // One point of each area light per hit (drawn only for area lights, so a
+  // scene without them draws what it always drew); a pixel's samples
+  // integrate the light.
+  const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
+  Imath::V2f light_points[k_max_march_lights];
+  for (size_t l = 0; l < n_lights; ++l)
+    if (m_scene.lights[l].sampled()) {
+      light_points[l].x = rng.next_float();
+      light_points[l].y = rng.next_float();
+    }
   if (slab.length_mm <= 0.0f) return MarchResult{};
 
   MarchLight lights[k_max_march_lights];
-  const size_t n_lights = std::min(m_scene.lights.size(), k_max_march_lights);
   for (size_t l = 0; l < n_lights; ++l) {
+    const Light& light = m_scene.lights[l];
     V3f to_light_world;
-    m_scene.lights[l].illuminate(p_world, to_light_world, lights[l].irradiance);
+    light.illuminate(p_world, to_light_world, lights[l].irradiance, light_points[l].x,
+                     light_points[l].y);
     lights[l].to_light_local = frame.local_from_world(to_light_world);
     lights[l].to_light_texture = frame.texture_from_world(to_light_world).normalized();
     lights[l].cache = nullptr;
-    if (rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty()) {
+    if (rs.transmittance == TransmittanceMode::Cached && !obj.caches.empty() &&
+        !light.sampled()) {
       const TransmittanceCache& cache = obj.caches[size_t(q) * m_scene.lights.size() + l];
       lights[l].cache_depth_scale = cache.depth_scale_for(lights[l].to_light_texture);
       // A light on the other side of the cloth here than at the quad's
