@@ -6,8 +6,12 @@
 #   no light) must be within 8 % relative RMSE of the reference renderer at
 #   256 samples, the issue's bound (measured 6.9 %; the reference's own noise
 #   at 256 samples is about 1 %, docs/blender-addon.md);
+# - the per-scene adaptive bake through lookup-render: its mean within 1 %
+#   of the reference's and 8 x 8-pixel blocks within 3 % (RMSE over RMS;
+#   measured 0.4 % and 1.9 %; per pixel it errs 10 % here, with a sun alone
+#   too: the bake's texels at this grazing view, not the lights);
 # - a spot aimed away from the cloth and an area light facing away light
-#   nothing: the reference and lookup-render give the background exactly.
+#   nothing: the reference and lookup-render give the background (to 1e-6).
 #   lights_cli.sh EXE ROOT
 set -u
 exe=$1 root=$2
@@ -22,6 +26,25 @@ scene=$root/testscenes/lights/scene.json
 "$exe" compare "$tmp/ref.exr" "$tmp/m.exr" --max-relative-rmse 0.08 --json >"$tmp/cmp.json" ||
   fail "material under spot and area lights against the reference: $(cat "$tmp/cmp.json")"
 echo "ok   material, spot + area: relative RMSE $(/usr/bin/python3 -c "import json; print('%.4f' % json.load(open('$tmp/cmp.json'))['relative_rmse'])")"
+
+"$exe" bake "$scene" -o "$tmp/b" --adaptive --quiet >/dev/null || fail "per-scene bake"
+"$exe" lookup-render "$scene" "$tmp/b" -o "$tmp/b.exr" --spp 64 --quiet || fail "lookup-render, bake"
+/usr/bin/python3 - "$tmp/ref.exr" "$tmp/b.exr" <<'PY' || fail "per-scene bake under spot and area lights"
+import sys
+import OpenImageIO as oiio
+import numpy as np
+def load(p):
+    return oiio.ImageBuf(p).get_pixels(oiio.FLOAT)[..., :3].astype(np.float64)
+def pooled(a, k=8):
+    h, w = a.shape[0] // k * k, a.shape[1] // k * k
+    return a[:h, :w].reshape(h // k, k, w // k, k, 3).mean(axis=(1, 3))
+r, b = load(sys.argv[1]), load(sys.argv[2])
+mean = b.mean() / r.mean() - 1
+R, B = pooled(r), pooled(b)
+blocks = np.sqrt(((B - R) ** 2).mean()) / np.sqrt((R ** 2).mean())
+print(f"     per-scene bake, spot + area: mean {100 * mean:+.2f} %, 8x8 blocks {100 * blocks:.2f} %")
+sys.exit(0 if abs(mean) <= 0.01 and blocks <= 0.03 else 1)
+PY
 
 # Lights that reach nothing: the spot turned up, the area light facing up.
 mkdir -p "$tmp/away"
