@@ -8,6 +8,7 @@
 
 #include <Imath/ImathVec.h>
 
+#include "core/march/volume_march.h"
 #include "core/scene/scene_checks.h"
 #include "core/util/error.h"
 #include "io/cloth_spec_json.h"
@@ -239,6 +240,11 @@ Scene scene_from_text(const std::string& text, const std::string& path,
   const nlohmann::json& lights = top.raw("lights");
   if (!lights.is_array() || lights.empty())
     top.fail("lights", "expected a non-empty array of lights, got " + type_name(lights));
+  // Every march holds its lights in a fixed array; more would be dropped
+  // silently by every route, so they are refused here.
+  if (lights.size() > k_max_march_lights)
+    top.fail("lights", "at most " + std::to_string(k_max_march_lights) + " lights, got " +
+                           std::to_string(lights.size()));
   for (size_t i = 0; i < lights.size(); ++i)
     scene.lights.push_back(read_light(
         JsonObject(lights[i], "lights[" + std::to_string(i) + "]", path), LightSpelling::Scene));

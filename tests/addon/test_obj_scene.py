@@ -124,6 +124,20 @@ def test_loads_the_paper_scene(source_dir):
      "objects[0].volume: must be the path of a VDB file"),
     ('"objects": [{"mesh": "a.obj", "cloth": {}, "volume": "none.vdb"}]',
      "objects[0].volume: the VDB file"),
+    ('"lights": [{"type": "spot", "position": [0, 1, 0]}]',
+     "lights[0].direction: must be an array of 3 numbers"),
+    ('"lights": [{"type": "spot", "position": [0, 1, 0], "direction": [0, 0, -1], '
+     '"spot_blend": "soft"}]', "lights[0].spot_blend: must be a finite number"),
+    ('"lights": [{"type": "area", "position": [0, 1, 0], "direction": [0, 0, -1], '
+     '"x_axis": [1, 0, 0], "shape": "star", "size": 1}]',
+     'lights[0].shape: unknown shape "star"; expected one of: rectangle, square, disk, ellipse'),
+    ('"lights": [{"type": "area", "position": [0, 1, 0], "direction": [0, 0, -1], '
+     '"x_axis": [1, 0, 0], "shape": "rectangle", "size": 1}]',
+     "lights[0].size: must be an array of 2 numbers"),
+    ('"lights": [{"type": "area", "position": [0, 1, 0], "direction": [0, 0, -1], '
+     '"shape": "disk", "size": 1}]', "lights[0].x_axis: must be an array of 3 numbers"),
+    ('"lights": [{"type": "hemi", "position": [0, 1, 0]}]',
+     "lights[0].type: must be an object with type 'directional', 'point', 'spot' or 'area'"),
 ])
 def test_refuses_bad_scenes(tmp_path, edit, message):
     path = tmp_path / "scene.json"

@@ -120,9 +120,178 @@ def test_lights_round_trip(float32):
         assert hinted == light
 
 
-def test_unsupported_light_names_the_light():
-    with pytest.raises(ClothbakeError, match="light 'lamp': area lights are not supported"):
-        se.light_from_blender("lamp", "AREA", [[1, 0, 0, 0]] * 4, [1, 1, 1], 1)
+SPOT_AND_AREA = [
+    {"type": "spot", "position": [0.3, -1.2, 2.5], "direction": [0.1, 0.4, -1.0],
+     "spot_size_deg": 52.5, "spot_blend": 0.3, "color": [1.0, 0.9, 0.7], "intensity": 2.5},
+    {"type": "area", "position": [-1.0, 0.5, 1.7], "direction": [0.3, -0.2, -0.9],
+     "x_axis": [1.0, 0.0, 0.333], "shape": "rectangle", "size": [0.8, 0.35],
+     "color": [0.7, 0.8, 1.0], "intensity": 3.0},
+    {"type": "area", "position": [0.0, 0.0, 2.0], "direction": [0.0, 0.0, -1.0],
+     "x_axis": [0.0, 1.0, 0.0], "shape": "disk", "size": 0.6, "color": [1, 1, 1],
+     "intensity": 1.5},
+    {"type": "area", "position": [2.0, 0.0, 1.0], "direction": [-1.0, 0.0, -0.5],
+     "x_axis": [0.0, 1.0, 0.0], "shape": "ellipse", "size": [1.2, 0.4], "color": [1, 1, 1],
+     "intensity": 1.0},
+    {"type": "area", "position": [0.0, 2.0, 1.0], "direction": [0.0, -1.0, 0.0],
+     "x_axis": [1.0, 0.0, 0.0], "shape": "square", "size": 0.25, "color": [1, 1, 1],
+     "intensity": 9.0},
+]
+
+
+def blender_settings(b):
+    """What the Blender side hands light_from_blender for a light's data."""
+    if b["type"] == "SPOT":
+        return {"spot_size": b["spot_size"], "spot_blend": b["spot_blend"]}
+    if b["type"] == "AREA":
+        return {"shape": b["shape"], "size": b["size"], "size_y": b["size_y"],
+                "spread": math.pi}
+    return None
+
+
+def _f32_settings(settings):
+    return {k: f32(v) if isinstance(v, float) else v for k, v in settings.items()}
+
+
+@pytest.mark.parametrize("float32", [False, True])
+@pytest.mark.parametrize("light", SPOT_AND_AREA, ids=lambda l: l["type"] + "-" +
+                         str(l.get("shape", "")))
+def test_spot_and_area_lights_round_trip(float32, light):
+    b = blender_light(light)
+    matrix = as_float32(b["matrix"]) if float32 else b["matrix"]
+    settings = blender_settings(b)
+    energy = f32(b["energy"]) if float32 else b["energy"]
+    if float32:
+        settings = _f32_settings(settings)
+    plain = se.light_from_blender("l", b["type"], matrix, b["color"], energy, settings=settings)
+    assert plain["type"] == light["type"]
+    assert abs(plain["intensity"] - light["intensity"]) <= 1e-6 * light["intensity"]
+    assert_vec(plain["position"], light["position"], 1e-6)
+    d = light["direction"]
+    n = math.sqrt(sum(c * c for c in d))
+    assert_vec(plain["direction"], [c / n for c in d], 1e-6)
+    if light["type"] == "spot":
+        assert abs(plain["spot_size_deg"] - light["spot_size_deg"]) <= 1e-4
+        assert abs(plain["spot_blend"] - light["spot_blend"]) <= 1e-6
+    else:
+        assert plain["shape"] == light["shape"]
+        size = light["size"] if isinstance(light["size"], list) else [light["size"]]
+        got = plain["size"] if isinstance(plain["size"], list) else [plain["size"]]
+        assert_vec(got, size, 1e-6)
+        # x_axis: the given one made orthogonal to the direction
+        x = light["x_axis"]
+        dn = [c / n for c in d]
+        dot = sum(a * c for a, c in zip(x, dn))
+        xo = [a - dot * c for a, c in zip(x, dn)]
+        xn = math.sqrt(sum(c * c for c in xo))
+        assert_vec(plain["x_axis"], [c / xn for c in xo], 1e-6)
+    hinted = se.light_from_blender("l", b["type"], matrix, b["color"], energy, hint=light,
+                                   settings=settings)
+    if light["type"] == "area" and light["x_axis"] != [1.0, 0.0, 0.333]:
+        assert hinted == light
+    elif light["type"] == "spot":
+        assert hinted == light
+
+
+def test_light_watts():
+    """Blender's watts: a spot's as a point light's (4 pi per unit of
+    intensity), an area light's 4 per unit of radiant intensity (measured:
+    Cycles 3.4 gives radiance P / (4 A); docs/blender-addon.md)."""
+    spot, area = SPOT_AND_AREA[0], SPOT_AND_AREA[1]
+    assert blender_light(spot)["energy"] == pytest.approx(2.5 * 4 * math.pi, rel=1e-12)
+    assert blender_light(area)["energy"] == pytest.approx(12.0, rel=1e-12)
+    b = blender_light(spot)
+    assert b["spot_size"] == pytest.approx(math.radians(52.5)) and b["spot_blend"] == 0.3
+    # -Z along the direction, a rotation (orthonormal, right-handed)
+    m = b["matrix"]
+    cols = [[m[r][c] for r in range(3)] for c in range(3)]
+    d = spot["direction"]
+    n = math.sqrt(sum(c * c for c in d))
+    assert_vec([-c for c in cols[2]], [c / n for c in d], 1e-12)
+    for i in range(3):
+        for j in range(3):
+            assert abs(sum(a * b for a, b in zip(cols[i], cols[j])) - (i == j)) < 1e-12
+    cx = [cols[0][1] * cols[1][2] - cols[0][2] * cols[1][1],
+          cols[0][2] * cols[1][0] - cols[0][0] * cols[1][2],
+          cols[0][0] * cols[1][1] - cols[0][1] * cols[1][0]]
+    assert_vec(cx, cols[2], 1e-12)
+
+
+def _scaled(matrix, sx, sy, sz=1.0):
+    return [[row[0] * sx, row[1] * sy, row[2] * sz, row[3]] for row in matrix[:3]] + [matrix[3]]
+
+
+def test_area_size_follows_the_object_scale():
+    """The sides are size (size_y) times the world matrix's scale along X
+    (Y); a square or disk scaled unevenly is a rectangle or an ellipse."""
+    square = dict(SPOT_AND_AREA[4])
+    b = blender_light(square)
+    out = se.light_from_blender("sq", "AREA", _scaled(b["matrix"], 2.0, 2.0, 5.0), [1, 1, 1],
+                                b["energy"], settings=blender_settings(b))
+    assert out["shape"] == "square" and out["size"] == pytest.approx(0.5)
+    out = se.light_from_blender("sq", "AREA", _scaled(b["matrix"], 2.0, 3.0), [1, 1, 1],
+                                b["energy"], settings=blender_settings(b))
+    assert out["shape"] == "rectangle" and out["size"] == pytest.approx([0.5, 0.75])
+    disk = blender_light(SPOT_AND_AREA[2])
+    out = se.light_from_blender("d", "AREA", _scaled(disk["matrix"], 1.0, 0.5), [1, 1, 1],
+                                disk["energy"], settings=blender_settings(disk))
+    assert out["shape"] == "ellipse" and out["size"] == pytest.approx([0.6, 0.3])
+    assert out["intensity"] == pytest.approx(1.5)   # the power is kept, not the radiance
+    # a spot scaled evenly is the same spot (Cycles ignores its scale)
+    spot = blender_light(SPOT_AND_AREA[0])
+    out = se.light_from_blender("s", "SPOT", _scaled(spot["matrix"], 3.0, 3.0, 3.0),
+                                spot["color"], spot["energy"], settings=blender_settings(spot))
+    assert_vec(out["position"], SPOT_AND_AREA[0]["position"], 1e-12)
+    assert out["spot_size_deg"] == pytest.approx(52.5)
+
+
+def test_what_clothbake_cannot_model_is_refused_naming_light_and_setting():
+    spot = blender_light(SPOT_AND_AREA[0])
+    with pytest.raises(ClothbakeError, match=r"^light 'cone': scale: its X and Y scale differ "
+                                             r"\(2, 1\): Eevee draws that cone as an ellipse"):
+        se.light_from_blender("cone", "SPOT", _scaled(spot["matrix"], 2.0, 1.0), [1, 1, 1],
+                              100.0, settings=blender_settings(spot))
+    area = blender_light(SPOT_AND_AREA[1])
+    settings = dict(blender_settings(area), spread=math.radians(90.0))
+    with pytest.raises(ClothbakeError, match=r"^light 'panel': spread: 90 degrees; clothbake's "
+                                             "area lights emit into the whole half-space"):
+        se.light_from_blender("panel", "AREA", area["matrix"], [1, 1, 1], 10.0,
+                              settings=settings)
+    sheared = [row[:] for row in area["matrix"]]
+    for r in range(3):
+        sheared[r][1] += 0.3 * sheared[r][0]
+    with pytest.raises(ClothbakeError, match=r"^light 'panel': its world matrix is sheared"):
+        se.light_from_blender("panel", "AREA", sheared, [1, 1, 1], 10.0,
+                              settings=blender_settings(area))
+    with pytest.raises(ClothbakeError, match="light 'lamp': hemi lights are not supported; "
+                                             "clothbake has sun"):
+        se.light_from_blender("lamp", "HEMI", [[1, 0, 0, 0]] * 4, [1, 1, 1], 1)
+
+
+def test_spot_and_area_lights_in_a_written_scene_read_back(tmp_path):
+    model = model_of(SLAB)
+    for light in SPOT_AND_AREA:
+        b = blender_light(light)
+        model["lights"].append(se.light_from_blender(
+            "l", b["type"], as_float32(b["matrix"]), b["color"], f32(b["energy"]), hint=light,
+            settings=_f32_settings(blender_settings(b))))
+    out = se.write_scene(model, tmp_path / "scene.json")
+    back = load_scene(out)
+    assert back["lights"][-len(SPOT_AND_AREA):][0] == SPOT_AND_AREA[0]
+    assert se.scene_matches_file(model, out)
+    model["lights"][-1] = dict(model["lights"][-1], size=0.3)
+    assert not se.scene_matches_file(model, out)
+    model["lights"][-1] = dict(model["lights"][-1], size=0.25, shape="disk")
+    assert not se.scene_matches_file(model, out)
+
+
+def test_clothbake_accepts_spot_and_area_lights(tmp_path, clothbake_bin):
+    model = model_of(SLAB)
+    model["render"]["spp"] = 1
+    model["lights"] = [dict(l) for l in SPOT_AND_AREA]
+    out = se.write_scene(model, tmp_path / "scene.json")
+    run = subprocess.run([clothbake_bin, "render", out, "-o", str(tmp_path / "r.exr"),
+                          "--quiet", "--threads", "1"], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
 
 
 def test_quad_mesh_keeps_face_and_corner_order_and_shares_uvs():

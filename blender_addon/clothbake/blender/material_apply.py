@@ -1,5 +1,5 @@
 """Apply material: a cloth material (docs/material-format.md) on any mesh
-with a UV map, lit live by the scene's sun and point lights. The node group
+with a UV map, lit live by the scene's sun, point, spot and area lights. The node group
 is material_nodes.py's, the lights and camera reach it through
 material_drivers.py; this module reads what the group needs from the mesh
 and the scene, and makes the object's material around the group.
@@ -16,7 +16,8 @@ from ..core.material_pack import pack_material, read_material
 from . import patch_nodes
 from .apply import load_data_image
 from .material_drivers import drive_camera, drive_light
-from .material_nodes import FRAME_SCALE_ATTRIBUTE, STRETCH_ATTRIBUTE, build_group
+from .material_nodes import (FRAME_SCALE_ATTRIBUTE, STRETCH_ATTRIBUTE, build_group,
+                             layout_suffix, light_kinds)
 
 ROUTES = ("exact", "cycles-lit")
 
@@ -166,18 +167,35 @@ def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
 
 
 def scene_lights(scene):
-    """(sun and point light objects, notes about the others)."""
+    """(the light objects the material is lit by, notes about the others).
+    Sun, point, spot and area lights light it; an area light whose Spread
+    is not 180 degrees is left out (clothbake's area lights emit into the
+    whole half-space, and a narrower spread is up to 1.7 x brighter under
+    it: measured), with a note; a spot scaled unevenly is lit as its round
+    cone, as Cycles 3.4 draws it (Eevee draws an ellipse), with a note."""
     lights, notes = [], []
     for obj in scene.objects:
         if obj.type != "LIGHT":
             continue
-        if obj.data.type in ("SUN", "POINT"):
+        data = obj.data
+        if data.type == "AREA" and abs(getattr(data, "spread", math.pi) - math.pi) > 1e-5:
+            notes.append(f"light '{obj.name}': its spread is "
+                         f"{math.degrees(data.spread):.4g} degrees: the material is not lit by "
+                         "it (clothbake's area lights have Spread 180 degrees)")
+            continue
+        if data.type == "SPOT":
+            sx, sy = obj.matrix_world.col[0].length, obj.matrix_world.col[1].length
+            if abs(sx - sy) > 1e-4 * max(sx, sy):
+                notes.append(f"light '{obj.name}': its X and Y scale differ: the material is "
+                             "lit by its round cone as Cycles draws it (Eevee draws an "
+                             "ellipse), and export refuses it")
+        if data.type in ("SUN", "POINT", "SPOT", "AREA"):
             lights.append(obj)
         else:
-            kind = obj.data.type.lower()
+            kind = data.type.lower()
             notes.append(f"light '{obj.name}' is {'an' if kind[0] in 'aeiou' else 'a'} {kind} "
-                         "light: the material "
-                         "is not lit by it yet (it reads sun and point lights only)")
+                         "light: the material is not lit by it (it reads sun, point, spot and "
+                         "area lights)")
     lights.sort(key=lambda o: o.name)
     return lights, notes
 
@@ -268,12 +286,14 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     lights_img = load_data_image(pack.light_factors, half=False)
     lights, notes = scene_lights(scene)
     if not lights:
-        notes.append("the scene has no sun or point light: the cloth renders black until one "
-                     "is added and the material applied again")
+        notes.append("the scene has no light: the cloth renders black until one is added "
+                     "and the material applied again")
 
     key = os.path.basename(pack.folder)
-    group = build_group(f"clothbake material {info.name or 'cloth'} {key} {len(lights)}L {route}",
-                        info, pack, coeff, lights_img, len(lights), route)
+    kinds = light_kinds(lights)
+    group = build_group(f"clothbake material {info.name or 'cloth'} {key} {len(lights)}L"
+                        f"{layout_suffix(kinds)} {route}", info, pack, coeff, lights_img, kinds,
+                        route)
 
     name = f"clothbake material {obj.name}"
     material = bpy.data.materials.get(name) or bpy.data.materials.new(name)

@@ -1,6 +1,7 @@
 """The drivers that bring the scene into the cloth material's node group
 (material_nodes.py): each light's direction (or position), irradiance and
-render visibility, and the camera's pixel angle and Cycles' samples.
+render visibility, a spot's axis and cone, an area light's axis, sides and
+shape, and the camera's pixel angle and Cycles' samples.
 
 They read each light object's world transform, colour, power and
 render visibility (BLENDER_NOTES.md: simple expressions, no script
@@ -38,17 +39,43 @@ def _driver(socket, index, expression, variables):
     return fc
 
 
+# The light object's world rotation as a quaternion (w, x, y, z): the
+# columns of its rotation matrix, each as three simple expressions.
+_X_AXIS = ("1-2*(y*y+z*z)", "2*(x*y+w*z)", "2*(x*z-w*y)")
+_Y_AXIS = ("2*(x*y-w*z)", "1-2*(x*x+z*z)", "2*(y*z+w*x)")
+_Z_AXIS = ("2*(x*z+w*y)", "2*(y*z-w*x)", "1-2*(x*x+y*y)")
+# Blender's area light shapes as a driver reads data.shape (the enum's
+# values: SQUARE 0, RECTANGLE 1, DISK 4, ELLIPSE 5; checked in Blender 3.4).
+_USES_SIZE_Y = "(s == 1 or s == 5)"
+_IS_ELLIPSE = "1.0 if s >= 4 else 0.0"
+# Watts to the group's irradiance input (clothbake's intensity):
+# scene.POINT_WATTS_PER_IRRADIANCE, SPOT_ and AREA_WATTS_PER_INTENSITY.
+_PER_WATT = {"POINT": 1.0 / (4.0 * math.pi), "SPOT": 1.0 / (4.0 * math.pi), "AREA": 0.25}
+
+
+def _rotation(light_obj):
+    return [(c, "TRANSFORMS", light_obj, None, f"ROT_{c.upper()}") for c in "wxyz"]
+
+
 def drive_light(node, l, light_obj):
+    """Light l's group inputs driven by the light object: a sun's direction
+    toward it, otherwise its world position (an area light's centre); its
+    irradiance (colour x power x the watts' factor x (1 - hide_render)); a
+    spot's axis and cone (cos(size / 2), (1 - cos(size / 2)) x blend), an
+    area light's axis, its sides (size, or size_y for a rectangle or an
+    ellipse, times the object's world scale, along its X and Y) and its
+    ellipse flag: every one live, the shape included."""
+    kind = light_obj.data.type
     vector = node.inputs[f"Light {l} vector"]
-    if light_obj.data.type == "SUN":
-        rot = [(c, "TRANSFORMS", light_obj, None, f"ROT_{c.upper()}") for c in "wxyz"]
+    if kind == "SUN":
+        rot = _rotation(light_obj)
         for axis, expr in enumerate(("2*(x*z+w*y)", "2*(y*z-w*x)", "1-2*(x*x+y*y)")):
             _driver(vector, axis, expr, rot)
         per = 1.0
     else:
         for axis, c in enumerate("XYZ"):
             _driver(vector, axis, "p", [("p", "TRANSFORMS", light_obj, None, f"LOC_{c}")])
-        per = 1.0 / (4.0 * math.pi)  # Blender's point watts -> irradiance at 1 unit (scene.py)
+        per = _PER_WATT.get(kind, _PER_WATT["POINT"])
     node.inputs[f"Light {l} point"].default_value = 0.0 if light_obj.data.type == "SUN" else 1.0
     irr = node.inputs[f"Light {l} irradiance"]
     for axis in range(3):
@@ -56,6 +83,28 @@ def drive_light(node, l, light_obj):
                 [("c", "SINGLE_PROP", light_obj, "OBJECT", f"data.color[{axis}]"),
                  ("e", "SINGLE_PROP", light_obj, "OBJECT", "data.energy"),
                  ("h", "SINGLE_PROP", light_obj, "OBJECT", "hide_render")])
+    if kind in ("SPOT", "AREA") and f"Light {l} axis" in node.inputs:
+        rot = _rotation(light_obj)
+        for axis, expr in enumerate(_Z_AXIS):    # the way it shines: its -Z
+            _driver(node.inputs[f"Light {l} axis"], axis, f"-({expr})", rot)
+    if kind == "SPOT" and f"Light {l} smooth" in node.inputs:
+        size = ("s", "SINGLE_PROP", light_obj, "OBJECT", "data.spot_size")
+        _driver(node.inputs[f"Light {l} cos half angle"], None, "cos(s/2)", [size])
+        _driver(node.inputs[f"Light {l} smooth"], None, "(1-cos(s/2))*b",
+                [size, ("b", "SINGLE_PROP", light_obj, "OBJECT", "data.spot_blend")])
+    if kind == "AREA" and f"Light {l} side u" in node.inputs:
+        rot = _rotation(light_obj)
+        a = ("a", "SINGLE_PROP", light_obj, "OBJECT", "data.size")
+        b = ("b", "SINGLE_PROP", light_obj, "OBJECT", "data.size_y")
+        shape = ("s", "SINGLE_PROP", light_obj, "OBJECT", "data.shape")
+        for axis, expr in enumerate(_X_AXIS):
+            _driver(node.inputs[f"Light {l} side u"], axis, f"({expr})*a*k",
+                    rot + [a, ("k", "TRANSFORMS", light_obj, None, "SCALE_X")])
+        for axis, expr in enumerate(_Y_AXIS):
+            _driver(node.inputs[f"Light {l} side v"], axis,
+                    f"({expr})*k*(b if {_USES_SIZE_Y} else a)",
+                    rot + [a, b, shape, ("k", "TRANSFORMS", light_obj, None, "SCALE_Y")])
+        _driver(node.inputs[f"Light {l} ellipse"], None, _IS_ELLIPSE, [shape])
 
 
 def drive_camera(node, scene):

@@ -23,7 +23,11 @@ level). Per shading point the group computes, one function a step:
      never come into play;
   5. per light (_light), its direction's light factors (resampled densely
      in the pack, so a stochastic bilinear read stands in for clothbake's
-     Catmull-Rom), times its irradiance: W_k = sum_l E_l F_k(v, l);
+     Catmull-Rom), times its irradiance: W_k = sum_l E_l F_k(v, l). A sun's
+     E is its input; a point light's over r^2; a spot's that times Cycles'
+     cone mask (_spot_mask); an area light is read at two points mirrored
+     through its centre, picked at random on its shape (_area_offset), each
+     a point light of half its intensity times cos(off its normal);
   6. L = max(0, sum_k C_k W_k) (_components), alpha A; the shaders
      (_shaders).
 Route "exact": Emission(L) + Transparent(1 - A), the reference renderer's
@@ -55,7 +59,7 @@ import bpy
 from ..core.material_manifest import HORIZON
 from .graph import Graph
 
-GROUP_VERSION = 4
+GROUP_VERSION = 5
 STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
 FRAME_SCALE_ATTRIBUTE = "clothbake_frame_scale"  # likewise: (e, 1 / e, depth ratio) per face
 BLACK = (0.0, 0.0, 0.0, 1.0)
@@ -85,7 +89,14 @@ def _mix(g, blend, a, b, fac, column):
 
 # --- the group's sockets -------------------------------------------------------
 
-def _inputs(group, n_lights):
+def _inputs(group, kinds):
+    """The group's inputs. Per light l: its vector (a sun's direction toward
+    it, else its position: a spot's apex, an area light's centre), its
+    irradiance (colour x power x the watts' factor, 0 when hidden) and the
+    point flag; a spot's axis (the way it shines), cos(size / 2) and the
+    smoothstep's width on the cosine; an area light's axis (its emitting
+    normal), its two sides as world vectors (size x scale along the light's
+    X and Y) and the ellipse flag (disk, ellipse)."""
     new = group.inputs.new
     new("NodeSocketVector", "UV")
     new("NodeSocketVector", "Tangent")
@@ -93,16 +104,25 @@ def _inputs(group, n_lights):
     for name, value in (("Repeats per UV", 40.0), ("World per UV", 1.0),
                         ("Pixel angle", 1e-3), ("Samples", 16.0), ("Footprint scale", 1.0)):
         new("NodeSocketFloat", name).default_value = value
-    for l in range(n_lights):
+    for l, kind in enumerate(kinds):
         new("NodeSocketVector", f"Light {l} vector")
         new("NodeSocketVector", f"Light {l} irradiance")
         new("NodeSocketFloat", f"Light {l} point")
+        if kind in ("SPOT", "AREA"):
+            new("NodeSocketVector", f"Light {l} axis").default_value = (0.0, 0.0, -1.0)
+        if kind == "SPOT":
+            new("NodeSocketFloat", f"Light {l} cos half angle").default_value = 0.0
+            new("NodeSocketFloat", f"Light {l} smooth").default_value = 0.0
+        if kind == "AREA":
+            new("NodeSocketVector", f"Light {l} side u").default_value = (1.0, 0.0, 0.0)
+            new("NodeSocketVector", f"Light {l} side v").default_value = (0.0, 1.0, 0.0)
+            new("NodeSocketFloat", f"Light {l} ellipse").default_value = 0.0
 
 
-def _new_group(name, key, n_lights):
+def _new_group(name, key, kinds):
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
     group["clothbake_key"] = key
-    _inputs(group, n_lights)
+    _inputs(group, kinds)
     group.outputs.new("NodeSocketShader", "Shader")
     group.outputs.new("NodeSocketColor", "Color")
     group.outputs.new("NodeSocketFloat", "Alpha")
@@ -221,17 +241,23 @@ def _view_direction(g, frame):
     return vz, view_side, vu, vv
 
 
-def _randoms(g, position):
+def _randoms(g, position, area=False):
     """Random numbers per shading point: two White Noise nodes, 7 values
-    (xi1..xi7) for the picks of steps 3 to 5."""
+    (xi1..xi7) for the picks of steps 3 to 5; with area lights two more
+    (xi8, the second node's unused Value, and xi9 from a third node) pick
+    the point on each area light."""
     def noise(offset, column):
         n = g.node("ShaderNodeTexWhiteNoise", column, noise_dimensions="3D")
         g.feed(n.inputs["Vector"], g.vmath("ADD", position, offset, column=column))
         return g.separate(n.outputs["Color"], column=column) + (n.outputs["Value"],)
 
     xi1, xi2, xi3, xi7 = noise((0.0, 0.0, 0.0), 4)
-    xi4, xi5, xi6, _ = noise((17.13, -3.71, 9.29), 4)
-    return xi1, xi2, xi3, xi4, xi5, xi6, xi7
+    xi4, xi5, xi6, xi8 = noise((17.13, -3.71, 9.29), 4)
+    if not area:
+        return xi1, xi2, xi3, xi4, xi5, xi6, xi7
+    n = g.node("ShaderNodeTexWhiteNoise", 4, noise_dimensions="3D")
+    g.feed(n.inputs["Vector"], g.vmath("ADD", position, (-5.37, 11.71, 2.93), column=4))
+    return xi1, xi2, xi3, xi4, xi5, xi6, xi7, xi8, n.outputs["Value"]
 
 
 def _view_node(g, k, view_side, vu, vv, xi_i, xi_j):
@@ -306,22 +332,84 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y):
     return uv0, step
 
 
-def _light(g, gin, l, frame, position, view, light_map, pack, lit, xis, col):
-    """Step 5 for light l: its direction and irradiance at the point and
-    its light factors' address. Returns (LightTerm, the cycles-lit
+def _spot_mask(g, gin, l, direction, col):
+    """Cycles 3.x's spot attenuation (measured in Blender 3.4: it holds the
+    cosine itself): a = cos(angle between the light's axis and the way to
+    the point), a x smoothstep((a - cos(size / 2)) / smooth), 0 outside the
+    cone; smooth = (1 - cos(size / 2)) x blend, 0 for a hard edge."""
+    a = g.math("MULTIPLY", g.vmath("DOT_PRODUCT", direction, gin[f"Light {l} axis"],
+                                   column=col), -1.0, column=col)
+    t = g.math("DIVIDE", g.math("SUBTRACT", a, gin[f"Light {l} cos half angle"], column=col),
+               g.math("MAXIMUM", gin[f"Light {l} smooth"], 1e-9, column=col), column=col,
+               clamp=True)
+    smooth = g.math("MULTIPLY", g.math("MULTIPLY", t, t, column=col),
+                    g.math("MULTIPLY_ADD", t, -2.0, 3.0, column=col), column=col)
+    return g.math("MULTIPLY", a, smooth, column=col)
+
+
+def _area_offset(g, gin, l, xis, col):
+    """A point on area light l, uniform over its shape, from two random
+    numbers (shifted per light), as its offset from the centre: su U + sv V
+    with U, V its sides; (su, sv) in the square [-1/2, 1/2]^2, or in the
+    disk of radius 1/2 (r = sqrt(xi) / 2, angle 2 pi xi') when the ellipse
+    flag is 1. The pixel's samples hit other points, so they integrate the
+    light."""
+    xa = g.math("FRACT", g.math("ADD", xis[0], (0.6180339887 * l) % 1.0, column=col), column=col)
+    xb = g.math("FRACT", g.math("ADD", xis[1], (0.4142135624 * l) % 1.0, column=col), column=col)
+    r = g.math("MULTIPLY", g.math("SQRT", xa, column=col), 0.5, column=col)
+    phi = g.math("MULTIPLY", xb, 2.0 * math.pi, column=col)
+    ellipse = gin[f"Light {l} ellipse"]
+    su = g.lerp(g.math("SUBTRACT", xa, 0.5, column=col), g.math(
+        "MULTIPLY", r, g.math("COSINE", phi, column=col), column=col), ellipse, col)
+    sv = g.lerp(g.math("SUBTRACT", xb, 0.5, column=col), g.math(
+        "MULTIPLY", r, g.math("SINE", phi, column=col), column=col), ellipse, col)
+    on_u = g.scale(gin[f"Light {l} side u"], su, col)
+    on_v = g.scale(gin[f"Light {l} side v"], sv, col)
+    return g.vmath("ADD", on_u, on_v, column=col)
+
+
+def _light_at(g, gin, l, kind, position, target, col):
+    """The unit direction toward light l and the factor its irradiance input
+    is scaled by at the point: a sun's 1; a point light's 1 / r^2; a spot's
+    1 / r^2 x its cone's attenuation; an area light's cos(off its normal) /
+    r^2 toward `target`, a point on it (0 behind it: one-sided), whose
+    irradiance input is its radiant intensity along the normal."""
+    vec, is_point = gin[f"Light {l} vector"], gin[f"Light {l} point"]
+    if kind in ("SUN", "POINT"):
+        to_point = g.vmath("SUBTRACT", vec, position, column=col)
+        direction = g.vmath("NORMALIZE", g.vmath("ADD", vec, g.scale(g.vmath(
+            "SUBTRACT", to_point, vec, column=col), is_point, col), column=col), column=col)
+        r2 = g.math("MAXIMUM", g.vmath("DOT_PRODUCT", to_point, to_point, column=col), 1e-12,
+                    column=col)
+        atten = g.math("ADD", g.math("MULTIPLY", is_point, g.math("SUBTRACT", g.math(
+            "DIVIDE", 1.0, r2, column=col), 1.0, column=col), column=col), 1.0, column=col)
+        return direction, atten
+    to_point = g.vmath("SUBTRACT", vec if kind == "SPOT" else target, position, column=col)
+    direction = g.vmath("NORMALIZE", to_point, column=col)
+    inv_r2 = g.math("DIVIDE", 1.0, g.math("MAXIMUM", g.vmath(
+        "DOT_PRODUCT", to_point, to_point, column=col), 1e-12, column=col), column=col)
+    if kind == "SPOT":
+        return direction, g.math("MULTIPLY", inv_r2, _spot_mask(g, gin, l, direction, col),
+                                 column=col)
+    cos_light = g.math("MAXIMUM", g.math("MULTIPLY", g.vmath(
+        "DOT_PRODUCT", direction, gin[f"Light {l} axis"], column=col), -1.0, column=col), 0.0,
+        column=col)
+    return direction, g.math("MULTIPLY", inv_r2, cos_light, column=col)
+
+
+def _light(g, gin, l, kind, frame, position, view, light_map, pack, lit, xis, col,
+           target=None, weight=1.0):
+    """Step 5 for light l (for an area light, the point `target` on it,
+    `weight` its share): its direction and irradiance at the point and its
+    light factors' address. Returns (LightTerm, the cycles-lit
     denominator's term E cos, or None on route exact)."""
     vi, view_row = view
     m = pack.dense
     q = m + 2
-    vec, irr, is_point = (gin[f"Light {l} vector"], gin[f"Light {l} irradiance"],
-                          gin[f"Light {l} point"])
-    to_point = g.vmath("SUBTRACT", vec, position, column=col)
-    direction = g.vmath("NORMALIZE", g.vmath("ADD", vec, g.scale(g.vmath(
-        "SUBTRACT", to_point, vec, column=col), is_point, col), column=col), column=col)
-    r2 = g.math("MAXIMUM", g.vmath("DOT_PRODUCT", to_point, to_point, column=col), 1e-12,
-                column=col)
-    atten = g.math("ADD", g.math("MULTIPLY", is_point, g.math("SUBTRACT", g.math(
-        "DIVIDE", 1.0, r2, column=col), 1.0, column=col), column=col), 1.0, column=col)
+    irr = gin[f"Light {l} irradiance"]
+    direction, atten = _light_at(g, gin, l, kind, position, target, col)
+    if weight != 1.0:
+        atten = g.math("MULTIPLY", atten, weight, column=col)
     irradiance = _mix(g, "ADD", BLACK, irr, atten, col)
     lx, ly, lz = _local(g, frame, direction, col + 1)
     light_side = g.math("LESS_THAN", lz, 0.0, column=col + 1)
@@ -349,17 +437,27 @@ def _light(g, gin, l, frame, position, view, light_map, pack, lit, xis, col):
     return LightTerm(luv, [(e_front, 0), (e_back, 1)]), term
 
 
-def _lights(g, gin, frame, position, view, info, pack, n_lights, lit, xis, col):
+def _lights(g, gin, frame, position, view, info, pack, kinds, lit, xis, col):
     """Step 5 for every light: ([LightTerm], cycles-lit denominator or
     None, the next free column)."""
     per_light, denom = [], None
-    for l in range(n_lights):
-        light, term = _light(g, gin, l, frame, position, view, info.light_map, pack, lit, xis,
-                             col)
-        per_light.append(light)
-        if term is not None:
-            denom = term if denom is None else _mix(g, "ADD", denom, term, 1.0, col + 6)
-        col += 7
+    for l, kind in enumerate(kinds):
+        targets = [None]
+        if kind == "AREA":
+            # Two points on it, mirrored through its centre (antithetic:
+            # the light's fall-off across it cancels to first order), each
+            # weighted 1/2.
+            offset = _area_offset(g, gin, l, xis[2:], col)
+            centre = gin[f"Light {l} vector"]
+            targets = [g.vmath("ADD", centre, offset, column=col),
+                       g.vmath("SUBTRACT", centre, offset, column=col)]
+        for target in targets:
+            light, term = _light(g, gin, l, kind, frame, position, view, info.light_map, pack,
+                                 lit, xis, col, target=target, weight=1.0 / len(targets))
+            per_light.append(light)
+            if term is not None:
+                denom = term if denom is None else _mix(g, "ADD", denom, term, 1.0, col + 6)
+            col += 7
     return per_light, denom, col
 
 
@@ -478,28 +576,48 @@ def _replace_old(name, group):
         group.name = name
 
 
-def build_group(name, info, pack, coeff_image, light_image, n_lights, route):
+def light_kinds(lights):
+    """Each light's kind as the group is built for it: SUN and POINT share
+    one layout (the point flag tells them apart), SPOT and AREA have theirs."""
+    return [o.data.type if o.data.type in ("SPOT", "AREA") else "POINT" for o in lights]
+
+
+def layout_suffix(kinds):
+    """The group's light layout in its name and key: "" when every light is
+    a sun or a point light (the names groups had before spot and area
+    lights), else " " and one letter a light (p, s, a)."""
+    if all(k == "POINT" for k in kinds):
+        return ""
+    return " " + "".join({"POINT": "p", "SPOT": "s", "AREA": "a"}[k] for k in kinds)
+
+
+def build_group(name, info, pack, coeff_image, light_image, kinds, route):
     """The node group, reused when one of this name was built from the same
     pack; else built anew (the steps of the module docstring, in order) and
-    every material of the old one moved onto it."""
-    key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {n_lights} {route} " \
-          f"{pack.width}x{pack.height}"
+    every material of the old one moved onto it. `kinds`: per light, "POINT"
+    (a sun or a point light), "SPOT" or "AREA" (light_kinds); an int n
+    stands for n suns or point lights."""
+    if isinstance(kinds, int):
+        kinds = ["POINT"] * kinds
+    key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
+          f"{layout_suffix(kinds)} {route} {pack.width}x{pack.height}"
     old = bpy.data.node_groups.get(name)
     if old is not None and old.get("clothbake_key") == key:
         return old
-    group = _new_group(name, key, n_lights)
+    group = _new_group(name, key, kinds)
     g = Graph(group)
     gin = g.node("NodeGroupInput", 0).outputs
     lit = route == "cycles-lit"
     frame = _frame(g, gin)
     position = frame.geometry.outputs["Position"]
     vz, view_side, vu, vv = _view_direction(g, frame)
-    xi1, xi2, xi3, xi4, xi5, xi6, xi7 = _randoms(g, position)
+    xis = _randoms(g, position, area="AREA" in kinds)
+    xi1, xi2, xi3, xi4, xi5, xi6, xi7 = xis[:7]
     view = _view_node(g, info.k, view_side, vu, vv, xi1, xi2)
     level = _level(g, gin, info, position, vz, xi3)
     address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5)
-    per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, n_lights, lit,
-                                    (xi6, xi7), 13)
+    per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, kinds, lit,
+                                    (xi6, xi7) + tuple(xis[7:]), 13)
     sums, alpha, col = _components(g, (coeff_image, light_image), address, per_light, info.k,
                                    pack, col)
     _shaders(g, sums, alpha, denom, lit, col)

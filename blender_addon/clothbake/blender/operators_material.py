@@ -36,9 +36,9 @@ def _material_scene_file(scene, folder):
     """The scene file the material bake reads (the cloth object's optics):
     the scene file while it still describes the Blender scene, else a fresh
     export to FOLDER.scene/scene.json. The scene file setting is left as it
-    was (the material folder's default is named after it). Spot and area
-    lights are left out (a material bake needs no lights; a per-scene
-    export still refuses them)."""
+    was (the material folder's default is named after it). A light the
+    export would refuse (an area light's Spread below 180 degrees, a spot
+    scaled unevenly) is left out: a material bake needs no lights."""
     model = build_model(scene, supported_lights_only=True)
     settings = scene.clothbake
     current = os.path.abspath(bpy.path.abspath(settings.scene_path)) if settings.scene_path \

@@ -3,13 +3,14 @@ background and settings of a Blender scene as plain data and hands them to
 clothbake.core.scene_export, which builds and writes the scene.
 
 What is exported: the scene camera (perspective, no lens shift), every
-render-visible sun and point light, every mesh object whose clothbake
+render-visible sun, point, spot and area light, every mesh object whose clothbake
 "Cloth" box is ticked (the mesh Cycles renders: after its modifiers, at
 their render settings, in world space, faces and corners in Blender's
 order: face q is the lookup's quad q; the render-active UV map), the world's background colour and scene.clothbake's
 reference render settings. Coordinates are written as they are (no axis
 conversion), as import reads them.
 """
+import math
 import os
 import re
 
@@ -89,15 +90,23 @@ def mesh_data(obj):
                              e.path, e.field) from None
 
 
-MATERIAL_LIGHTS = ("SUN", "POINT")
+def light_settings(data):
+    """What light_from_blender reads beyond type, colour and power: a spot's
+    cone, an area light's shape, sizes and spread (None for the others)."""
+    if data.type == "SPOT":
+        return {"spot_size": data.spot_size, "spot_blend": data.spot_blend}
+    if data.type == "AREA":
+        return {"shape": data.shape, "size": data.size, "size_y": data.size_y,
+                "spread": getattr(data, "spread", math.pi)}
+    return None
 
 
 def build_model(scene, supported_lights_only=False):
     """The export model of a Blender scene (clothbake.core.scene_export).
     Raises ClothbakeError naming what cannot be exported. With
     supported_lights_only (the material bake, which reads the cloth objects
-    only) lights clothbake has no type for (spot, area) are left out
-    instead of refused."""
+    only) a light clothbake cannot model (an area light's spread below 180
+    degrees, a spot scaled unevenly, ...) is left out instead of refused."""
     hint = hint_scene(scene)
     cam_obj = scene.camera
     if cam_obj is None or cam_obj.type != "CAMERA":
@@ -121,14 +130,16 @@ def build_model(scene, supported_lights_only=False):
 
     lights = []
     for index, obj in _lights(scene):
-        if supported_lights_only and obj.data.type not in MATERIAL_LIGHTS:
-            continue
         light_hint = None
         if hint is not None and index is not None and index < len(hint["lights"]):
             light_hint = hint["lights"][index]
-        lights.append(scene_export.light_from_blender(
-            obj.name, obj.data.type, _matrix(obj.matrix_world), obj.data.color, obj.data.energy,
-            hint=light_hint))
+        try:
+            lights.append(scene_export.light_from_blender(
+                obj.name, obj.data.type, _matrix(obj.matrix_world), obj.data.color,
+                obj.data.energy, hint=light_hint, settings=light_settings(obj.data)))
+        except ClothbakeError:
+            if not supported_lights_only:
+                raise
 
     objects = []
     for obj in cloth_objects(scene):

@@ -1,5 +1,6 @@
 """Import a clothbake scene JSON into Blender: meshes (face and corner order
-kept, so face q is the lookup's quad q), camera, lights, background and
+kept, so face q is the lookup's quad q), camera, lights (sun, point, spot,
+area), background and
 Cycles settings that reproduce clothbake's reference renderer.
 
 Coordinates are taken as they are (no axis conversion): clothbake's world
@@ -7,6 +8,7 @@ and Blender's are both right-handed, and a scene exported back must give
 the same numbers, so the scene's "up" stays whatever axis it was (the paper
 scene is y-up).
 """
+import math
 import os
 
 import bpy
@@ -107,8 +109,16 @@ def import_scene(path, clear=True, samples=16):
         data.energy = settings["energy"]
         if settings["type"] == "SUN":
             data.angle = 0.0
+        elif settings["type"] == "AREA":
+            data.shape = settings["shape"]
+            data.size = settings["size"]
+            data.size_y = settings["size_y"]
+            data.spread = math.pi       # clothbake's area lights: the whole half-space
         else:
             data.shadow_soft_size = 0.0
+            if settings["type"] == "SPOT":
+                data.spot_size = settings["spot_size"]
+                data.spot_blend = settings["spot_blend"]
         light_obj = bpy.data.objects.new(f"clothbake light {i}", data)
         light_obj.matrix_world = Matrix(settings["matrix"])
         scene.collection.objects.link(light_obj)

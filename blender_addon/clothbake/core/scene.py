@@ -34,6 +34,16 @@ _MAX_SEED = 2**31 - 1  # what a Blender IntProperty holds
 # white plane's radiance is P / (4 pi^2); reading that as irradiance is the
 # 4 pi^2 mistake this constant once made. Sun strength is irradiance already.
 POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi
+# A spot light of P watts is that point light masked by its cone: irradiance
+# P / (4 pi) at 1 unit on its axis, times Cycles' spot attenuation (which
+# holds one more cosine of the angle off the axis; measured, docs/
+# blender-addon.md, "Blender's spot and area lights, measured").
+SPOT_WATTS_PER_INTENSITY = POINT_WATTS_PER_IRRADIANCE
+# An area light of P watts and area A (its sizes times the object's scale)
+# has radiance P / (4 A) in Cycles 3.4, measured on every shape
+# (scripts/blender/spot_area_units.py): not P / (pi A). clothbake's area
+# intensity is radiance x area, so P = 4 I.
+AREA_WATTS_PER_INTENSITY = 4.0
 
 
 def _vec(value, n, path, field):
@@ -111,24 +121,57 @@ def _camera(root, path):
     return cam
 
 
+LIGHT_TYPES = ("directional", "point", "spot", "area")
+AREA_SHAPES = ("rectangle", "square", "disk", "ellipse")
+SPOT_DEFAULTS = {"spot_size_deg": 45.0, "spot_blend": 0.15}  # the program's (light_json.cpp)
+
+
+def _spot(lj, light, path, where):
+    light["position"] = _vec(lj.get("position"), 3, path, where + ".position")
+    light["direction"] = _vec(lj.get("direction"), 3, path, where + ".direction")
+    for key, default in SPOT_DEFAULTS.items():
+        light[key] = _num(lj.get(key, default), path, f"{where}.{key}")
+
+
+def _area(lj, light, path, where):
+    light["position"] = _vec(lj.get("position"), 3, path, where + ".position")
+    light["direction"] = _vec(lj.get("direction"), 3, path, where + ".direction")
+    light["x_axis"] = _vec(lj.get("x_axis"), 3, path, where + ".x_axis")
+    shape = lj.get("shape", "rectangle")
+    if shape not in AREA_SHAPES:
+        raise ClothbakeError(f"unknown shape {json.dumps(shape)}; expected one of: "
+                             + ", ".join(AREA_SHAPES), path, where + ".shape")
+    light["shape"] = shape
+    if shape in ("square", "disk"):
+        light["size"] = _num(lj.get("size"), path, where + ".size")
+    else:
+        light["size"] = _vec(lj.get("size"), 2, path, where + ".size")
+
+
 def _lights(root, path):
-    """The lights, each a dict of type, color, intensity and its direction or position."""
+    """The lights, each a dict of type, color, intensity and its direction
+    or position (spot: position, direction, spot_size_deg, spot_blend; area:
+    position, direction, x_axis, shape, size)."""
     lights = []
     lights_json = root.get("lights")
     if not isinstance(lights_json, list) or not lights_json:
         raise ClothbakeError("must be a non-empty array", path, "lights")
     for i, lj in enumerate(lights_json):
         where = f"lights[{i}]"
-        if not isinstance(lj, dict) or lj.get("type") not in ("directional", "point"):
-            raise ClothbakeError("must be an object with type 'directional' or 'point'", path,
-                                 where + ".type")
+        if not isinstance(lj, dict) or lj.get("type") not in LIGHT_TYPES:
+            raise ClothbakeError("must be an object with type 'directional', 'point', 'spot' "
+                                 "or 'area'", path, where + ".type")
         light = {"type": lj["type"],
                  "color": _vec(lj.get("color", [1.0, 1.0, 1.0]), 3, path, where + ".color"),
                  "intensity": _num(lj.get("intensity", 1.0), path, where + ".intensity")}
         if light["type"] == "directional":
             light["direction"] = _vec(lj.get("direction"), 3, path, where + ".direction")
-        else:
+        elif light["type"] == "point":
             light["position"] = _vec(lj.get("position"), 3, path, where + ".position")
+        elif light["type"] == "spot":
+            _spot(lj, light, path, where)
+        else:
+            _area(lj, light, path, where)
         lights.append(light)
     return lights
 
@@ -244,9 +287,38 @@ def blender_camera(cam, sensor_mm=36.0):
             "sensor_height": sensor_mm, "resolution": list(cam["resolution"])}
 
 
+def _aim_matrix(direction, position, x_axis=None):
+    """A world matrix whose -Z is `direction` (the way the light travels),
+    at `position`; its +X is x_axis made orthogonal to it when given."""
+    d = _normalized(direction)
+    z = [-c for c in d]
+    x = None
+    if x_axis is not None:
+        dot = sum(a * b for a, b in zip(x_axis, z))
+        x = _normalized([a - dot * b for a, b in zip(x_axis, z)])
+        if not any(x):
+            x = None
+    if x is None:
+        helper = [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0]
+        x = _normalized(_cross(helper, d))
+    y = _cross(z, x)
+    p = position or [0.0, 0.0, 0.0]
+    return [[x[r], y[r], z[r], p[r]] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+
+
+def area_sides(light):
+    """(width, height) of an area light: its size, twice for a square or disk."""
+    size = light["size"]
+    return (float(size[0]), float(size[1])) if isinstance(size, list) else \
+        (float(size), float(size))
+
+
 def blender_light(light):
-    """Blender light settings for a clothbake light: type, colour, energy
-    and (for a sun) the world matrix that points its -Z along `direction`."""
+    """Blender light settings for a clothbake light: type, colour, energy,
+    the world matrix (a sun's, spot's and area light's -Z along
+    `direction`; an area light's +X along `x_axis`), and a spot's
+    spot_size (radians) and spot_blend, an area light's shape, size and
+    size_y (scale 1: the sides are the sizes)."""
     if light["type"] == "directional":
         d = _normalized(light["direction"])
         helper = [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0]
@@ -257,6 +329,18 @@ def blender_light(light):
         return {"type": "SUN", "color": light["color"], "energy": light["intensity"],
                 "matrix": matrix}
     p = light["position"]
+    if light["type"] == "spot":
+        return {"type": "SPOT", "color": light["color"],
+                "energy": light["intensity"] * SPOT_WATTS_PER_INTENSITY,
+                "matrix": _aim_matrix(light["direction"], p),
+                "spot_size": math.radians(light["spot_size_deg"]),
+                "spot_blend": light["spot_blend"]}
+    if light["type"] == "area":
+        width, height = area_sides(light)
+        return {"type": "AREA", "color": light["color"],
+                "energy": light["intensity"] * AREA_WATTS_PER_INTENSITY,
+                "matrix": _aim_matrix(light["direction"], p, light["x_axis"]),
+                "shape": light["shape"].upper(), "size": width, "size_y": height}
     matrix = [[1.0, 0.0, 0.0, p[0]], [0.0, 1.0, 0.0, p[1]], [0.0, 0.0, 1.0, p[2]],
               [0.0, 0.0, 0.0, 1.0]]
     return {"type": "POINT", "color": light["color"],

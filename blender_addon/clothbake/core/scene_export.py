@@ -13,13 +13,14 @@ import json
 import math
 import os
 import re
+import struct
 
 from . import defaults
 from .cloth_fields import short_float
 from .errors import ClothbakeError
 from .obj import QuadMeshData, format_obj, read_obj
-from .scene import (FIBER_MODELS, POINT_WATTS_PER_IRRADIANCE, SHADINGS, TRANSMITTANCES,
-                    camera_basis, load_scene)
+from .scene import (AREA_WATTS_PER_INTENSITY, FIBER_MODELS, POINT_WATTS_PER_IRRADIANCE, SHADINGS,
+                    SPOT_WATTS_PER_INTENSITY, TRANSMITTANCES, camera_basis, load_scene)
 
 RENDER_DEFAULTS = defaults.RENDER_DEFAULTS  # the program's (core/defaults.py)
 OBJECT_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
@@ -120,13 +121,122 @@ def camera_from_blender(matrix, lens, sensor_width, sensor_height, sensor_fit, r
     return camera
 
 
-def light_from_blender(name, light_type, matrix, color, energy, hint=None):
+_LIGHT_TYPES = {"SUN": "directional", "POINT": "point", "SPOT": "spot", "AREA": "area"}
+# Relative tolerance of a light's scale and axes: a spot's X and Y scale
+# equal, an area light's axes orthogonal (float32 matrices, rotations).
+SCALE_TOLERANCE = 1e-4
+
+
+def _snap_direction(direction, hint_direction):
+    if hint_direction is not None and _close(direction, _normalized(hint_direction)):
+        return list(hint_direction)
+    return direction
+
+
+def _f32(x):
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def _degrees(radians):
+    """A float32 angle in radians as the shortest number of degrees that
+    gives it back (Blender shows and stores 50 degrees as float32 radians:
+    50.00000025 degrees read back)."""
+    degrees = math.degrees(radians)
+    if _f32(radians) == radians:
+        for digits in range(6, 10):
+            d = float(f"%.{digits}g" % degrees)
+            if _f32(math.radians(d)) == radians:
+                return d
+    return degrees
+
+
+def _unit_scale(length):
+    """A rotation column's length: 1 when it is 1 to float32 rounding (a
+    light rotated, not scaled), so its sizes are written as Blender shows them."""
+    return 1.0 if abs(length - 1.0) <= 4e-7 else length
+
+
+def _spot_from_blender(name, matrix, energy, settings, hint):
+    where = f"light '{name}'"
+    sx, sy = _norm(_column(matrix, 0)), _norm(_column(matrix, 1))
+    if abs(sx - sy) > SCALE_TOLERANCE * max(sx, sy):
+        raise ClothbakeError(f"scale: its X and Y scale differ ({sx:.4g}, {sy:.4g}): "
+                             "Eevee draws that cone as an ellipse, and "
+                             "clothbake's spot cone is round (Cycles 3.4 ignores a spot's "
+                             "scale); make them equal", "", where)
+    direction = _normalized([-c for c in _column(matrix, 2)])
+    if _norm(direction) == 0:
+        raise ClothbakeError("the light's world matrix is singular", "", where)
+    size_deg = _degrees(float(settings["spot_size"]))
+    blend = float(settings["spot_blend"])
+    return {"type": "spot",
+            "position": _snap(_column(matrix, 3), hint["position"] if hint else None),
+            "direction": _snap_direction(direction, hint["direction"] if hint else None),
+            "spot_size_deg": _snap(size_deg, hint["spot_size_deg"] if hint else None),
+            "spot_blend": _snap(blend, hint["spot_blend"] if hint else None),
+            "intensity": float(energy) / SPOT_WATTS_PER_INTENSITY}
+
+
+def _area_from_blender(name, matrix, energy, settings, hint):
+    where = f"light '{name}'"
+    spread = float(settings.get("spread", math.pi))
+    if abs(spread - math.pi) > 1e-5:
+        raise ClothbakeError(f"spread: {math.degrees(spread):.4g} degrees; clothbake's "
+                             "area lights emit into the whole half-space in front of them "
+                             "(Spread 180 degrees)", "", where)
+    x, y, z = (_column(matrix, c) for c in range(3))
+    sx, sy, sz = (_unit_scale(_norm(c)) for c in (x, y, z))
+    if not (sx > 0 and sy > 0 and sz > 0):
+        raise ClothbakeError("the light's world matrix is singular", "", where)
+    dots = (sum(a * b for a, b in zip(x, y)) / (sx * sy), sum(a * b for a, b in zip(x, z)) /
+            (sx * sz), sum(a * b for a, b in zip(y, z)) / (sy * sz))
+    if max(abs(d) for d in dots) > SCALE_TOLERANCE:
+        raise ClothbakeError("its world matrix is sheared (a parent scaled unevenly and a "
+                             "rotation between): its shape is a parallelogram, which clothbake "
+                             "cannot model", "", where)
+    shape = str(settings.get("shape", "SQUARE")).lower()
+    size, size_y = (short_float(settings[k]) for k in ("size", "size_y" if "size_y" in settings
+                                                        else "size"))
+    if shape in ("square", "disk"):
+        width, height = size * sx, size * sy
+        if abs(width - height) > SCALE_TOLERANCE * max(width, height):
+            shape = "rectangle" if shape == "square" else "ellipse"   # scaled unevenly
+    elif shape in ("rectangle", "ellipse"):
+        width, height = size * sx, size_y * sy
+    else:
+        raise ClothbakeError(f"shape: unknown area shape '{shape}'", "", where)
+    hint_size = hint["size"] if hint and hint.get("shape") == shape else None
+    if shape in ("square", "disk"):
+        out_size = _snap(width, hint_size if isinstance(hint_size, float) else None)
+    else:
+        out_size = _snap([width, height], hint_size if isinstance(hint_size, list) else None)
+    return {"type": "area",
+            "position": _snap(_column(matrix, 3), hint["position"] if hint else None),
+            "direction": _snap_direction(_normalized([-c for c in z]),
+                                         hint["direction"] if hint else None),
+            "x_axis": _snap_direction(_normalized(x), hint["x_axis"] if hint else None),
+            "shape": shape, "size": out_size,
+            "intensity": float(energy) / AREA_WATTS_PER_INTENSITY}
+
+
+def light_from_blender(name, light_type, matrix, color, energy, hint=None, settings=None):
     """The clothbake light of a Blender light: SUN -> directional (travelling
     along the light's -Z, irradiance = strength), POINT -> point (irradiance
-    at distance 1 = watts / POINT_WATTS_PER_IRRADIANCE). Other types are
-    refused, naming the light."""
-    if hint is not None and hint.get("type") != {"SUN": "directional",
-                                                 "POINT": "point"}.get(light_type):
+    at distance 1 = watts / POINT_WATTS_PER_IRRADIANCE), SPOT -> spot (the
+    same, masked by the cone: `settings` spot_size in radians, spot_blend),
+    AREA -> area (`settings` shape, size, size_y, spread; the sides are the
+    sizes times the matrix's scale along X and Y; radiant intensity along
+    its normal = watts / AREA_WATTS_PER_INTENSITY). A light radius (point,
+    spot) is not in clothbake's lights and is ignored. What clothbake cannot
+    model (other types, an area spread other than 180 degrees, a spot whose
+    X and Y scale differ, a sheared area light) is refused, naming the light
+    and the setting."""
+    kind = _LIGHT_TYPES.get(light_type)
+    if kind is None:
+        raise ClothbakeError(f"{light_type.lower()} lights are not supported; clothbake has "
+                             "sun (directional), point, spot and area lights", "",
+                             f"light '{name}'")
+    if hint is not None and hint.get("type") != kind:
         hint = None
     color = _snap([float(c) for c in color], hint["color"] if hint else None)
     if light_type == "SUN":
@@ -144,8 +254,14 @@ def light_from_blender(name, light_type, matrix, color, energy, hint=None):
         if hint is not None and _close(intensity, hint["intensity"]):
             intensity = hint["intensity"]
         return {"type": "point", "position": position, "color": color, "intensity": intensity}
-    raise ClothbakeError(f"{light_type.lower()} lights are not supported; clothbake has sun "
-                         "(directional) and point lights", "", f"light '{name}'")
+    if settings is None:
+        raise ClothbakeError(f"the {kind} light's settings are missing", "", f"light '{name}'")
+    light = (_spot_from_blender if light_type == "SPOT" else _area_from_blender)(
+        name, matrix, energy, settings, hint)
+    if hint is not None and _close(light["intensity"], hint["intensity"]):
+        light["intensity"] = hint["intensity"]
+    light["color"] = color
+    return light
 
 
 def quad_mesh(name, positions, faces, face_uvs):
@@ -200,8 +316,8 @@ def build_scene(camera, lights, objects, background, render=None, name=None, des
     optionally isotropic_albedo and volume (path of a VDB whose texture
     replaces the generated one); background linear RGB."""
     if not lights:
-        raise ClothbakeError("a clothbake scene needs at least one sun or point light", "",
-                             "lights")
+        raise ClothbakeError("a clothbake scene needs at least one light (sun, point, spot or "
+                             "area)", "", "lights")
     if not objects:
         raise ClothbakeError("a clothbake scene needs at least one cloth object", "", "objects")
     out_objects = []
@@ -337,7 +453,18 @@ def _same_light(a, b, tol):
         return False
     if a["type"] == "directional":
         return _close(_normalized(a["direction"]), _normalized(b["direction"]), tol)
-    return _close(a["position"], b["position"], tol)
+    if not _close(a["position"], b["position"], tol):
+        return False
+    if a["type"] == "point":
+        return True
+    if not _close(_normalized(a["direction"]), _normalized(b["direction"]), tol):
+        return False
+    if a["type"] == "spot":
+        return _close(a["spot_size_deg"], b["spot_size_deg"], tol) and \
+            _close(a["spot_blend"], b["spot_blend"], tol)
+    return (a["shape"] == b["shape"] and _close(_normalized(a["x_axis"]),
+                                                _normalized(b["x_axis"]), tol)
+            and type(a["size"]) is type(b["size"]) and _close(a["size"], b["size"], tol))
 
 
 def same_camera(a, b, tol=SNAP_TOLERANCE):
