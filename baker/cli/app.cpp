@@ -11,6 +11,7 @@ int run_cli(int argc, const char* const* argv, Action action, std::ostream& out,
   CLI::App app{"clothbake: woven cloth from a volume texture (Kimoto & Ohno, c. 1990)"};
   app.require_subcommand(1);
   register_volume_command(app, action);
+  register_draft_command(app, action);
   register_fiber_command(app, action);
   register_render_command(app, action);
   register_compare_command(app, action);

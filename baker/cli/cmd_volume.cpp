@@ -1,6 +1,7 @@
 // `clothbake volume SPEC_OR_SCENE.json -o DIR`: generate the volume texture
 // (PAPER.md s.2), write DIR/volume.vdb, readable PNG previews and a summary.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +20,9 @@
 #include "cli/thread_limit.h"
 #include "core/util/error.h"
 #include "core/texture/volume_generator.h"
+#include "core/texture/crossings.h"
 #include "core/texture/volume_preview.h"
+#include "core/weave/drawdown_image.h"
 #include "io/atomic_file.h"
 #include "io/cloth_spec_json.h"
 #include "io/image_io.h"
@@ -38,6 +41,8 @@ struct VolumeArgs {
 };
 
 std::string weave_label(const ClothSpec& spec) {
+  if (!spec.draft_source.empty())
+    return std::filesystem::path(spec.draft_source).filename().string();
   return spec.draft.empty() ? spec.pattern : "custom draft";
 }
 
@@ -120,7 +125,18 @@ void run_volume(const VolumeArgs& args) {
       {"cells_hash", hex16(volume.content_hash())},
       {"generate_seconds", seconds},
       {"memory_bytes", estimated_volume_bytes(spec)},
-      {"files", {"volume.vdb", "top.png", "tangents.png", "section_warp.png", "section_weft.png"}}};
+      {"files",
+       {"volume.vdb", "top.png", "tangents.png", "section_warp.png", "section_weft.png",
+        "drawdown.png", "crossings.exr"}}};
+  int ends = 0, picks = 0;
+  repeat_threads(spec, ends, picks);
+  summary["repeat_threads"] = {ends, picks};
+  if (!spec.draft_source.empty()) summary["draft_source"] = spec.draft_source;
+  // The drawdown beside the top view: the same way up (end 1 left, pick 1 at
+  // the bottom), a few pixels per crossing however long the repeat.
+  const int block = std::clamp(768 / std::max(ends, picks), 1, 32);
+  const Image drawdown = drawdown_image(spec, block);
+  const Image crossings = crossing_tops(volume, spec);
 
   // Step 3: every file written beside its final name, then all renamed into
   // place together: a failure or an interrupt leaves the folder as it was.
@@ -135,6 +151,14 @@ void run_volume(const VolumeArgs& args) {
       io::write_png_to(temp, path, p.image, p.linear);
     });
   }
+  const std::string drawdown_path = (dir / "drawdown.png").string();
+  files.emplace_back(drawdown_path, [&](const std::string& temp) {
+    io::write_png_to(temp, drawdown_path, drawdown, true);
+  });
+  const std::string crossings_path = (dir / "crossings.exr").string();
+  files.emplace_back(crossings_path, [&](const std::string& temp) {
+    io::write_exr_to(temp, crossings_path, crossings);
+  });
   const std::string json_path = (dir / "volume.json").string();
   files.emplace_back(json_path, [&](const std::string& temp) {
     std::ofstream out(temp);
@@ -151,7 +175,7 @@ void register_volume_command(CLI::App& app, Action action) {
   auto args = std::make_shared<VolumeArgs>();
   CLI::App* cmd = app.add_subcommand(
       "volume", "Generate a cloth's volume texture: DIR/volume.vdb and PNG previews");
-  cmd->add_option("input", args->input, "cloth spec or scene JSON")->required();
+  cmd->add_option("input", args->input, "cloth spec or scene JSON, or a WIF draft")->required();
   cmd->add_option("-o,--out", args->out_dir, "output folder")->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));

@@ -15,6 +15,7 @@ enum class Action {
 };
 
 void register_volume_command(CLI::App& app, Action action);
+void register_draft_command(CLI::App& app, Action action);
 void register_fiber_command(CLI::App& app, Action action);
 void register_render_command(CLI::App& app, Action action);
 void register_compare_command(CLI::App& app, Action action);

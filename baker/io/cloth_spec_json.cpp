@@ -4,16 +4,24 @@
 
 #include "core/util/error.h"
 #include "io/text_file.h"
+#include "io/wif_reader.h"
 
 namespace clothbake::io {
 
 namespace {
+// A key given beside weave.wif overrides the file: one spacing, width or
+// colour replaces the file's per-thread values of it.
 void read_yarn(const JsonObject& j, YarnSpec& y) {
-  j.allow_only({"spacing_mm", "width_mm", "thickness_mm", "color", "twist_deg", "ply_pitch_mm"});
+  j.allow_only({"spacing_mm", "width_mm", "thickness_mm", "color", "colors", "twist_deg",
+                "ply_pitch_mm"});
+  if (j.has("spacing_mm")) y.spacings_mm.clear();
+  if (j.has("width_mm")) y.widths_mm.clear();
+  if (j.has("color")) y.colors.clear();
   j.read("spacing_mm", y.spacing_mm);
   j.read("width_mm", y.width_mm);
   j.read("thickness_mm", y.thickness_mm);
   j.read("color", y.color);
+  j.read("colors", y.colors);
   j.read("twist_deg", y.twist_deg);
   j.read("ply_pitch_mm", y.ply_pitch_mm);
 }
@@ -25,12 +33,21 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
                 "density", "shading", "resolution", "seed"});
   if (j.has("weave")) {
     const JsonObject w = j.object("weave");
-    w.allow_only({"pattern", "draft"});
-    if (w.has("pattern") && w.has("draft"))
-      w.fail(w.path(), "give either pattern or draft, not both");
+    w.allow_only({"pattern", "draft", "wif"});
+    if (int(w.has("pattern")) + int(w.has("draft")) + int(w.has("wif")) > 1)
+      w.fail(w.path().empty() ? "weave" : w.path(), "give one of pattern, draft or wif");
     w.read("pattern", s.pattern);
     w.read("draft", s.draft);
     if (w.has("draft") && s.draft.empty()) w.fail(w.field("draft"), "the draft is empty");
+    if (w.has("wif")) {
+      // The file first: every other key of the spec is read over it.
+      std::string rel;
+      w.read("wif", rel);
+      if (rel.empty()) w.fail(w.field("wif"), "the path is empty");
+      std::filesystem::path full(rel);
+      if (full.is_relative()) full = std::filesystem::path(j.file()).parent_path() / full;
+      s = apply_wif(read_wif_file(full.string()), s);
+    }
   }
   if (j.has("warp")) read_yarn(j.object("warp"), s.warp);
   if (j.has("weft")) read_yarn(j.object("weft"), s.weft);
@@ -60,9 +77,10 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
   }
   if (j.has("resolution")) {
     const JsonObject r = j.object("resolution");
-    r.allow_only({"cells_x", "cells_y", "layers", "supersample"});
+    r.allow_only({"cells_x", "cells_y", "cells_per_thread", "layers", "supersample"});
     r.read("cells_x", s.resolution.cells_x);
     r.read("cells_y", s.resolution.cells_y);
+    r.read("cells_per_thread", s.resolution.cells_per_thread);
     r.read("layers", s.resolution.layers);
     r.read("supersample", s.resolution.supersample);
   }
@@ -77,7 +95,19 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
   return s;
 }
 
+ClothSpec cloth_spec_from_wif(const WifFile& wif) {
+  ClothSpec s = apply_wif(wif, ClothSpec{});
+  try {
+    validate(s);
+  } catch (const InputError& e) {
+    throw InputError(e.field(), e.message() + " (as the WIF file's [WARP] / [WEFT] sizes give it)",
+                     wif.path);
+  }
+  return s;
+}
+
 ClothSpec cloth_spec_from_text(const std::string& text, const std::string& path) {
+  if (is_wif_path(path)) return cloth_spec_from_wif(parse_wif(text, path));
   const nlohmann::json doc = parse_json_text(text, path);
   const JsonObject top(doc, "", path);
   if (!top.has("objects")) return cloth_spec_from_json(top);
@@ -103,10 +133,12 @@ ClothSpec cloth_spec_from_text(const std::string& text, const std::string& path)
 }
 
 ClothSpec load_cloth_spec(const std::string& path) {
-  return cloth_spec_from_text(read_text_file(path, "a JSON file"), path);
+  return cloth_spec_from_text(
+      read_text_file(path, is_wif_path(path) ? "a WIF file" : "a JSON file"), path);
 }
 
 ClothSpec load_cloth_spec_file(const std::string& path) {
+  if (is_wif_path(path)) return cloth_spec_from_wif(read_wif_file(path));
   const nlohmann::json doc = read_json_file(path);
   return cloth_spec_from_json(JsonObject(doc, "", path));
 }

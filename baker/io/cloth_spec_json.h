@@ -13,7 +13,12 @@ namespace clothbake::io {
 /// file and the full field path.
 ClothSpec cloth_spec_from_json(const JsonObject& spec_json);
 
-/// Reads a cloth spec, or a scene (a JSON object with "objects"), in which
+/// A WIF file's cloth with clothbake's defaults for what the file does not
+/// say (io/wif_reader.h), validated; errors name the WIF file.
+struct WifFile;
+ClothSpec cloth_spec_from_wif(const WifFile& wif);
+
+/// Reads a cloth spec, or a WIF file (by its extension), or a scene (a JSON object with "objects"), in which
 /// case the first object's "cloth" is used: inline, or the path of a cloth
 /// spec file (not another scene) relative to `path`. `text` is the content of
 /// `path`, which errors name.

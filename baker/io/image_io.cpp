@@ -87,6 +87,10 @@ void write_exr(const std::string& path, const Image& image) {
       path, [&](const std::string& temp) { write_buf_to(temp, path, buf, oiio::TypeDesc::FLOAT); });
 }
 
+void write_exr_to(const std::string& temp, const std::string& path, const Image& image) {
+  write_buf_to(temp, path, exr_buf(image), oiio::TypeDesc::FLOAT);
+}
+
 void write_render_images(const std::string& exr_path, const std::string& png_path,
                          const Image& image) {
   const oiio::ImageBuf exr = exr_buf(image);

@@ -21,6 +21,9 @@ void write_png_to(const std::string& temp, const std::string& path, const Image&
 /// Writes a float EXR (linear, no transfer curve), channels R,G,B[,A].
 void write_exr(const std::string& path, const Image& image);
 
+/// The same EXR written to `temp` as it is, for write_all_atomically.
+void write_exr_to(const std::string& temp, const std::string& path, const Image& image);
+
 /// A render's outputs together: the float EXR and, when `png_path` is not
 /// empty, its sRGB PNG preview (of the RGB channels). Both appear or neither:
 /// a failed write leaves every previous file as it was.

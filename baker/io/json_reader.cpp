@@ -168,6 +168,34 @@ void JsonObject::read(const char* key, std::vector<std::vector<int>>& out) const
   out = std::move(m);
 }
 
+void JsonObject::read(const char* key, std::vector<Imath::V3f>& out) const {
+  if (!has(key)) return;
+  const auto& v = m_value.at(key);
+  if (!v.is_array() || v.empty())
+    fail(field(key), "expected a non-empty array of [r, g, b], got " + type_name(v));
+  std::vector<Imath::V3f> list(v.size());
+  for (size_t i = 0; i < v.size(); ++i)
+    read_vector<3>(*this, v[i], field(key) + "[" + std::to_string(i) + "]", list[i]);
+  out = std::move(list);
+}
+
+void JsonObject::read(const char* key, std::vector<float>& out) const {
+  if (!has(key)) return;
+  const auto& v = m_value.at(key);
+  if (!v.is_array() || v.empty())
+    fail(field(key), "expected a non-empty array of numbers, got " + type_name(v));
+  std::vector<float> list(v.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!v[i].is_number())
+      fail(field(key) + "[" + std::to_string(i) + "]", "expected a number, got " + type_name(v[i]));
+    const double x = v[i].get<double>();
+    if (!std::isfinite(x) || std::fabs(x) > std::numeric_limits<float>::max())
+      fail(field(key) + "[" + std::to_string(i) + "]", "must be a finite number");
+    list[i] = float(x);
+  }
+  out = std::move(list);
+}
+
 JsonObject JsonObject::object(const char* key) const {
   if (!has(key)) fail(field(key), "missing");
   return JsonObject(m_value.at(key), field(key), m_file);

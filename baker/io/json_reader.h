@@ -40,6 +40,8 @@ class JsonObject {
   void read(const char* key, Imath::V3f& out) const;                     ///< [x, y, z]
   void read(const char* key, Imath::V2f& out) const;                     ///< [x, y]
   void read(const char* key, std::vector<std::vector<int>>& out) const;  ///< matrix of ints
+  void read(const char* key, std::vector<Imath::V3f>& out) const;        ///< [[x, y, z], ...]
+  void read(const char* key, std::vector<float>& out) const;             ///< [x, ...]
 
   JsonObject object(const char* key) const;  ///< required nested object
   const nlohmann::json& raw(const char* key) const { return m_value.at(key); }

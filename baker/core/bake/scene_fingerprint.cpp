@@ -43,6 +43,16 @@ void add_yarn(Fingerprint& f, const YarnSpec& y) {
   f.add(y.color);
   f.add(y.twist_deg);
   f.add(y.ply_pitch_mm);
+  // Per-thread lists only when given, so a spec without them keeps the
+  // fingerprint it always had.
+  if (!y.colors.empty() || !y.spacings_mm.empty() || !y.widths_mm.empty()) {
+    f.add(uint64_t(y.colors.size()));
+    for (const Imath::V3f& c : y.colors) f.add(c);
+    f.add(uint64_t(y.spacings_mm.size()));
+    for (float v : y.spacings_mm) f.add(v);
+    f.add(uint64_t(y.widths_mm.size()));
+    for (float v : y.widths_mm) f.add(v);
+  }
 }
 
 // Every field of ClothSpec: keep in step with core/weave/cloth_spec.h.
@@ -64,7 +74,9 @@ void add_cloth(Fingerprint& f, const ClothSpec& c) {
   for (float v : {s.specular_top, s.specular_bottom, s.diffuse_top, s.diffuse_bottom, s.exponent,
                   s.variation, s.fiber_aspect})
     f.add(v);
-  const ResolutionSpec& r = c.resolution;
+  // The resolution as generated (automatic cells filled in): a named
+  // pattern's automatic 64 hashes as the explicit 64 it once was.
+  const ResolutionSpec r = resolved_resolution(c);
   for (int v : {r.cells_x, r.cells_y, r.layers, r.supersample}) f.add(v);
   f.add(c.seed);
 }

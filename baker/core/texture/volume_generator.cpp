@@ -14,6 +14,7 @@
 
 #include "core/util/error.h"
 #include "core/util/random.h"
+#include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
 
 namespace clothbake {
@@ -103,26 +104,46 @@ struct YarnHit {
 class WeaveModel {
  public:
   explicit WeaveModel(const ClothSpec& spec)
-      : m_spec(spec), m_draft(draft_of(spec)), m_geom(weave_geometry(spec)) {}
+      : m_spec(spec),
+        m_draft(draft_of(spec)),
+        m_geom(weave_geometry(spec)),
+        m_ends(spec.warp, m_draft.ends(), "warp"),
+        m_picks(spec.weft, m_draft.picks(), "weft") {}
 
   /// Finds the yarn containing p_texture, preferring the one it lies deepest in.
   YarnHit hit(const V3f& p_texture) const {
     YarnHit best;
-    const float sw = m_spec.warp.spacing_mm, sf = m_spec.weft.spacing_mm;
-    const int c0 = int(std::floor(p_texture.x / sw));
-    for (int c = c0 - 1; c <= c0 + 1; ++c) consider_warp(p_texture, c, best);
-    const int r0 = int(std::floor(p_texture.y / sf));
-    for (int r = r0 - 1; r <= r0 + 1; ++r) consider_weft(p_texture, r, best);
+    // Evenly spaced threads: the three nearest by division, in the order the
+    // generator always took them (ties keep the first, so the order is bytes).
+    // Uneven: the centre at or before the point and its neighbours; a thread
+    // may be up to twice its spacing wide, so two and three on either side.
+    float t, gap;
+    if (m_ends.uniform()) {
+      const int c0 = int(std::floor(p_texture.x / m_spec.warp.spacing_mm));
+      for (int c = c0 - 1; c <= c0 + 1; ++c) consider_warp(p_texture, c, best);
+    } else {
+      const int c0 = m_ends.locate(p_texture.x, t, gap);
+      for (int c = c0 - 2; c <= c0 + 3; ++c) consider_warp(p_texture, c, best);
+    }
+    if (m_picks.uniform()) {
+      const int r0 = int(std::floor(p_texture.y / m_spec.weft.spacing_mm));
+      for (int r = r0 - 1; r <= r0 + 1; ++r) consider_weft(p_texture, r, best);
+    } else {
+      const int r0 = m_picks.locate(p_texture.y, t, gap);
+      for (int r = r0 - 2; r <= r0 + 3; ++r) consider_weft(p_texture, r, best);
+    }
     return best;
   }
 
   const WeaveGeometry& geometry() const { return m_geom; }
+  const ThreadLayout& ends() const { return m_ends; }
+  const ThreadLayout& picks() const { return m_picks; }
 
  private:
   // Centre-line height and slope of a yarn whose crossing states (+1 over,
-  // -1 under) are s0 at parameter u = n and s1 at n + 1; half-cosine blend.
-  void path(float u, float s0, float s1, float spacing, float& z_mm, float& slope) const {
-    const float t = u - std::floor(u);
+  // -1 under) are s0 at one crossing and s1 at the next, a fraction t of the
+  // `spacing` between them on; half-cosine blend.
+  void path(float t, float s0, float s1, float spacing, float& z_mm, float& slope) const {
     const float blend = 0.5f * (1.0f - std::cos(k_pi * t));
     z_mm = m_geom.z_mid_mm + m_geom.amplitude_mm * (s0 + (s1 - s0) * blend);
     slope = m_geom.amplitude_mm * (s1 - s0) * 0.5f * k_pi * std::sin(k_pi * t) / spacing;
@@ -130,15 +151,15 @@ class WeaveModel {
 
   void consider_warp(const V3f& p, int end, YarnHit& best) const {
     const YarnSpec& y = m_spec.warp;
-    const float x_c = (end + 0.5f) * y.spacing_mm;
-    const float ex = (p.x - x_c) / (0.5f * y.width_mm);
+    const float x_c = m_ends.centre_mm(end);
+    const float ex = (p.x - x_c) / (0.5f * m_ends.width_mm(end));
     if (ex * ex > 1.0f) return;  // outside this end's width: skip the path
-    const float u = p.y / m_spec.weft.spacing_mm - 0.5f;
-    const int pick = int(std::floor(u));
+    float t, gap;
+    const int pick = m_picks.locate(p.y, t, gap);
     const float s0 = m_draft.warp_up(pick, end) ? 1.0f : -1.0f;
     const float s1 = m_draft.warp_up(pick + 1, end) ? 1.0f : -1.0f;
     float z_c, slope;
-    path(u, s0, s1, m_spec.weft.spacing_mm, z_c, slope);
+    path(t, s0, s1, gap, z_c, slope);
     const float ez = (p.z - z_c) / (0.5f * y.thickness_mm);
     const float r2 = ex * ex + ez * ez;
     if (r2 > 1.0f || r2 >= best.r2) return;
@@ -153,16 +174,16 @@ class WeaveModel {
 
   void consider_weft(const V3f& p, int pick, YarnHit& best) const {
     const YarnSpec& y = m_spec.weft;
-    const float y_c = (pick + 0.5f) * y.spacing_mm;
-    const float ey = (p.y - y_c) / (0.5f * y.width_mm);
+    const float y_c = m_picks.centre_mm(pick);
+    const float ey = (p.y - y_c) / (0.5f * m_picks.width_mm(pick));
     if (ey * ey > 1.0f) return;
-    const float u = p.x / m_spec.warp.spacing_mm - 0.5f;
-    const int end = int(std::floor(u));
+    float t, gap;
+    const int end = m_ends.locate(p.x, t, gap);
     // The weft is over exactly where the warp is under.
     const float s0 = m_draft.warp_up(pick, end) ? -1.0f : 1.0f;
     const float s1 = m_draft.warp_up(pick, end + 1) ? -1.0f : 1.0f;
     float z_c, slope;
-    path(u, s0, s1, m_spec.warp.spacing_mm, z_c, slope);
+    path(t, s0, s1, gap, z_c, slope);
     const float ez = (p.z - z_c) / (0.5f * y.thickness_mm);
     const float r2 = ey * ey + ez * ez;
     if (r2 > 1.0f || r2 >= best.r2) return;
@@ -181,7 +202,8 @@ class WeaveModel {
   void complete(YarnHit& h) const {
     const bool warp = h.family == YarnFamily::Warp;
     const YarnSpec& y = warp ? m_spec.warp : m_spec.weft;
-    const float across_mm = h.ex * 0.5f * y.width_mm, up_mm = h.ez * 0.5f * y.thickness_mm;
+    const float width_mm = warp ? m_ends.width_mm(h.index) : m_picks.width_mm(h.index);
+    const float across_mm = h.ex * 0.5f * width_mm, up_mm = h.ez * 0.5f * y.thickness_mm;
     h.axis_texture = (warp ? V3f(0.0f, 1.0f, h.slope) : V3f(1.0f, 0.0f, h.slope)).normalized();
     h.radial_texture =
         radial(warp ? V3f(across_mm, 0.0f, up_mm) : V3f(0.0f, across_mm, up_mm), h.axis_texture);
@@ -203,6 +225,7 @@ class WeaveModel {
   const ClothSpec& m_spec;
   WeaveDraft m_draft;
   WeaveGeometry m_geom;
+  ThreadLayout m_ends, m_picks;
 };
 
 /// Unit vector rotated away from `t` by `angle` radians toward azimuth `phi`.
@@ -221,14 +244,14 @@ WeaveGeometry weave_geometry(const ClothSpec& spec) {
   WeaveGeometry g;
   g.amplitude_mm = spec.crimp * (spec.warp.thickness_mm + spec.weft.thickness_mm) / 4.0f;
   const float half_max = 0.5f * std::max(spec.warp.thickness_mm, spec.weft.thickness_mm);
-  g.size_mm = V3f(draft.ends() * spec.warp.spacing_mm, draft.picks() * spec.weft.spacing_mm,
-                  2.0f * (g.amplitude_mm + half_max));
+  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  g.size_mm = V3f(ends.repeat_mm(), picks.repeat_mm(), 2.0f * (g.amplitude_mm + half_max));
   g.z_mid_mm = 0.5f * g.size_mm.z;
   return g;
 }
 
 uint64_t estimated_volume_bytes(const ClothSpec& spec) {
-  const ResolutionSpec& r = spec.resolution;
+  const ResolutionSpec r = resolved_resolution(spec);
   // Computed in floating point first so absurd resolutions cannot overflow.
   const double cells =
       double(std::max(r.cells_x, 0)) * std::max(r.cells_y, 0) * std::max(r.layers, 0);
@@ -243,7 +266,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
   validate(spec);
   const uint64_t need = estimated_volume_bytes(spec);
   if (need > memory_budget_bytes) {
-    const ResolutionSpec& r = spec.resolution;
+    const ResolutionSpec r = resolved_resolution(spec);
     throw InputError("resolution",
                      std::to_string(r.cells_x) + " x " + std::to_string(r.cells_y) + " x " +
                          std::to_string(r.layers) + " cells need an estimated " +
@@ -253,7 +276,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
 
   const WeaveModel weave(spec);
   const WeaveGeometry& geom = weave.geometry();
-  const ResolutionSpec& res = spec.resolution;
+  const ResolutionSpec res = resolved_resolution(spec);
   VolumeTexture volume(res.cells_x, res.cells_y, res.layers, geom.size_mm);
   if (is_uniform(spec)) {
     Cell c;
@@ -280,7 +303,6 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
   };
   const float warp_turns = turns_per_repeat(geom.size_mm.y, spec.warp.ply_pitch_mm);
   const float weft_turns = turns_per_repeat(geom.size_mm.x, spec.weft.ply_pitch_mm);
-  const WeaveDraft draft = draft_of(spec);
 
   tbb::parallel_for(tbb::blocked_range<int>(0, res.layers * res.cells_y), [&](const auto& rows) {
     for (int row = rows.begin(); row != rows.end(); ++row) {
@@ -325,8 +347,8 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         // bundle 1 at -twist (base vectors v_V / v_H), then a random rotation.
         const bool warp = central.family == YarnFamily::Warp;
         const YarnSpec& yarn = warp ? spec.warp : spec.weft;
-        const int count = warp ? draft.ends() : draft.picks();
-        const int yarn_id = ((central.index % count) + count) % count;
+        const ThreadLayout& layout = warp ? weave.ends() : weave.picks();
+        const int yarn_id = layout.wrap(central.index);
         const float repeat_mm = warp ? geom.size_mm.y : geom.size_mm.x;
         const float turns = warp ? warp_turns : weft_turns;
         const float phase0 =
@@ -362,7 +384,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         const float dscale =
             (s.diffuse_bottom + (s.diffuse_top - s.diffuse_bottom) * h) * (1.0f + s.variation * v2);
         for (int c = 0; c < 3; ++c)
-          cell.diffuse[c] = std::clamp(yarn.color[c] * dscale, 0.0f, 1.0f);
+          cell.diffuse[c] = std::clamp(layout.color(yarn_id)[c] * dscale, 0.0f, 1.0f);
         cell.exponent = s.exponent;
       }
     }

@@ -1,9 +1,11 @@
 #include "core/weave/cloth_spec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "core/util/error.h"
+#include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
 
 namespace clothbake {
@@ -31,6 +33,28 @@ void validate_yarn(const YarnSpec& y, const std::string& f) {
   for (int c = 0; c < 3; ++c) finite_range(y.color[c], 0.0f, 1.0f, f + ".color");
   finite_range(y.twist_deg, 0.0f, 89.0f, f + ".twist_deg");
   positive(y.ply_pitch_mm, f + ".ply_pitch_mm");
+  for (size_t i = 0; i < y.colors.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      finite_range(y.colors[i][c], 0.0f, 1.0f, f + ".colors[" + std::to_string(i) + "]");
+  for (size_t i = 0; i < y.spacings_mm.size(); ++i)
+    positive(y.spacings_mm[i], f + ".spacings_mm[" + std::to_string(i) + "]");
+  for (size_t i = 0; i < y.widths_mm.size(); ++i)
+    positive(y.widths_mm[i], f + ".widths_mm[" + std::to_string(i) + "]");
+  // Each thread at most twice as wide as the gaps either side of it, so a
+  // point meets only its neighbours' cross-sections.
+  const size_t n = std::max({y.widths_mm.size(), y.spacings_mm.size(), size_t(1)});
+  if (!y.widths_mm.empty() || !y.spacings_mm.empty())
+    for (size_t i = 0; i < n; ++i) {
+      auto spacing = [&](size_t k) {
+        return y.spacings_mm.empty() ? y.spacing_mm : y.spacings_mm[k % y.spacings_mm.size()];
+      };
+      const float w = y.widths_mm.empty() ? y.width_mm : y.widths_mm[i % y.widths_mm.size()];
+      const float gap = std::min(spacing(i), spacing(i + n - 1));
+      require(w <= 2.0f * gap, f + (y.widths_mm.empty() ? ".width_mm" : ".widths_mm[" + std::to_string(i % y.widths_mm.size()) + "]"),
+              "thread " + std::to_string(i + 1) + " is " + std::to_string(w) +
+                  " mm wide, more than twice the " + std::to_string(gap) +
+                  " mm gap beside it (it would overlap its second neighbour)");
+    }
 }
 }  // namespace
 
@@ -42,6 +66,7 @@ void validate(const ClothSpec& spec) {
     (void)WeaveDraft::named(spec.pattern);
   else
     (void)WeaveDraft(spec.draft);
+  (void)resolved_resolution(spec);  // the repeat's length, refused when too long
   validate_yarn(spec.warp, "warp");
   validate_yarn(spec.weft, "weft");
   finite_range(spec.crimp, 0.0f, 2.0f, "crimp");
@@ -65,11 +90,32 @@ void validate(const ClothSpec& spec) {
   finite_range(s.fiber_aspect, 1.0f, 1000.0f, "shading.fiber_aspect");
 
   const ResolutionSpec& r = spec.resolution;
-  require(r.cells_x >= 1, "resolution.cells_x", "must be at least 1");
-  require(r.cells_y >= 1, "resolution.cells_y", "must be at least 1");
+  require(r.cells_x >= 0, "resolution.cells_x", "must be at least 1 (or 0: automatic)");
+  require(r.cells_y >= 0, "resolution.cells_y", "must be at least 1 (or 0: automatic)");
+  require(r.cells_per_thread >= 1 && r.cells_per_thread <= 256, "resolution.cells_per_thread",
+          "must be in [1, 256], got " + std::to_string(r.cells_per_thread));
   require(r.layers >= 1, "resolution.layers", "must be at least 1");
   require(r.supersample >= 1 && r.supersample <= 8, "resolution.supersample",
           "must be in [1, 8], got " + std::to_string(r.supersample));
+}
+
+ResolutionSpec resolved_resolution(const ClothSpec& spec) {
+  ResolutionSpec r = spec.resolution;
+  const bool named = spec.draft.empty();
+  const WeaveDraft draft = !named                               ? WeaveDraft(spec.draft)
+                           : spec.pattern == k_uniform_pattern ? WeaveDraft({{1, 0}, {0, 1}})
+                                                               : WeaveDraft::named(spec.pattern);
+  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  // A named pattern keeps its 64 cells per repeat of the pattern (the colour
+  // sequence may span several); a draft gets cells per thread, at least 64.
+  auto automatic = [&](int threads, int draft_threads) {
+    const long long n = named ? 64LL * (threads / draft_threads)
+                              : std::max(64LL, (long long)r.cells_per_thread * threads);
+    return int(std::min<long long>(n, 1 << 30));
+  };
+  if (r.cells_x == 0) r.cells_x = automatic(ends.count(), draft.ends());
+  if (r.cells_y == 0) r.cells_y = automatic(picks.count(), draft.picks());
+  return r;
 }
 
 }  // namespace clothbake

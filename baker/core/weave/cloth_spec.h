@@ -20,6 +20,12 @@ struct YarnSpec {
   Imath::V3f color{0.60f, 0.09f, 0.08f};  ///< diffuse albedo, linear RGB in [0, 1]
   float twist_deg = 28.0f;    ///< angle of the fibres to the yarn axis (ply twist), [0, 89]
   float ply_pitch_mm = 1.0f;  ///< yarn length of one full turn of the two twisted bundles
+  /// Per-thread values, each empty (every thread takes the family's value
+  /// above) or one per thread, a shorter list repeating: the repeat of the
+  /// cloth is the least common multiple of the draft's and these lengths.
+  std::vector<Imath::V3f> colors;     ///< diffuse albedo per thread, linear RGB
+  std::vector<float> spacings_mm;     ///< distance from this thread's centre to the next one's
+  std::vector<float> widths_mm;       ///< full in-plane width per thread
 };
 
 /// Density rho (fraction of a cell occupied by fibre, PAPER.md s.2 "first element").
@@ -45,8 +51,12 @@ struct ShadingSpec {
 
 /// Grid of cells over ONE weave repeat (the texture tiles periodically in x, y).
 struct ResolutionSpec {
-  int cells_x = 64;     ///< cells across the repeat along x (weft direction)
-  int cells_y = 64;     ///< cells across the repeat along y (warp direction)
+  /// 0 = automatic: 64 cells per named pattern's repeat (times the repeats of
+  /// it the colour sequence spans), and for an explicit draft
+  /// max(64, cells_per_thread x threads): see resolved_resolution().
+  int cells_x = 0;      ///< cells across the repeat along x (weft direction)
+  int cells_y = 0;      ///< cells across the repeat along y (warp direction)
+  int cells_per_thread = 8;  ///< automatic cells per warp end (x) and per weft pick (y) of a draft
   int layers = 16;      ///< cells through the cloth's thickness (z)
   int supersample = 2;  ///< s: each cell's rho averages s^3 sub-cell points, [1, 8]
 };
@@ -59,8 +69,11 @@ inline constexpr const char* k_uniform_pattern = "uniform";
 struct ClothSpec {
   std::string pattern = "plain";  ///< named draft or "uniform"; ignored when `draft` is non-empty
   std::vector<std::vector<int>> draft;  ///< explicit draft (rows = picks, 1 = warp up)
+  /// Where the draft came from when it was read from a weaving file (a WIF):
+  /// text for reports only, not part of the texture.
+  std::string draft_source;
   YarnSpec warp;                        ///< runs along +y
-  YarnSpec weft{0.5f, 0.44f, 0.18f, {0.55f, 0.42f, 0.10f}, 28.0f, 1.0f};  ///< runs along +x
+  YarnSpec weft{0.5f, 0.44f, 0.18f, {0.55f, 0.42f, 0.10f}, 28.0f, 1.0f, {}, {}, {}};  ///< runs along +x
   float crimp = 1.0f;  ///< over/under amplitude; 1 = yarns just touch at crossings, [0, 2]
   float angle_spread_deg = 6.0f;  ///< std. deviation of the random fibre-direction perturbation
   DensitySpec density;
@@ -71,5 +84,8 @@ struct ClothSpec {
 
 /// Checks ranges and consistency; throws InputError naming the field.
 void validate(const ClothSpec& spec);
+
+/// The resolution with the automatic (0) cells_x / cells_y filled in.
+ResolutionSpec resolved_resolution(const ClothSpec& spec);
 
 }  // namespace clothbake

@@ -31,7 +31,11 @@ WeaveDraft::WeaveDraft(std::vector<std::vector<int>> matrix) {
     throw InputError(field, "the draft is empty; give at least a 2 x 2 matrix of 0 and 1");
   m_rows = static_cast<int>(matrix.size());
   m_cols = static_cast<int>(matrix[0].size());
-  if (m_rows > 256 || m_cols > 256) throw InputError(field, "the draft is larger than 256 x 256");
+  if (m_rows > k_max_draft_threads || m_cols > k_max_draft_threads)
+    throw InputError(field, "the draft is " + std::to_string(m_rows) + " x " +
+                                std::to_string(m_cols) + ", larger than " +
+                                std::to_string(k_max_draft_threads) + " x " +
+                                std::to_string(k_max_draft_threads));
   m_up.resize(size_t(m_rows) * m_cols);
   for (int r = 0; r < m_rows; ++r) {
     if (static_cast<int>(matrix[r].size()) != m_cols)
@@ -46,21 +50,6 @@ WeaveDraft::WeaveDraft(std::vector<std::vector<int>> matrix) {
             "entries must be 0 (weft on top) or 1 (warp on top), got " + std::to_string(v));
       m_up[size_t(r) * m_cols + c] = static_cast<unsigned char>(v);
     }
-  }
-  for (int c = 0; c < m_cols; ++c) {
-    int ups = 0;
-    for (int r = 0; r < m_rows; ++r) ups += m_up[size_t(r) * m_cols + c];
-    if (ups == 0 || ups == m_rows)
-      throw InputError(field, "warp end (column) " + std::to_string(c) +
-                                  " never interlaces: it is " +
-                                  (ups ? "always up" : "always down"));
-  }
-  for (int r = 0; r < m_rows; ++r) {
-    int ups = 0;
-    for (int c = 0; c < m_cols; ++c) ups += m_up[size_t(r) * m_cols + c];
-    if (ups == 0 || ups == m_cols)
-      throw InputError(field, "weft pick (row) " + std::to_string(r) + " never interlaces: it is " +
-                                  (ups ? "always under" : "always over"));
   }
 }
 

@@ -12,12 +12,16 @@
 
 namespace clothbake {
 
+/// Largest draft, in threads per side (drafts of hundreds are ordinary).
+inline constexpr int k_max_draft_threads = 4096;
+
 class WeaveDraft {
  public:
   WeaveDraft() = default;
   /// `rows` x `cols` matrix, row-major. Throws InputError (field "weave.draft")
-  /// when empty, ragged, or when a warp end or weft pick never interlaces
-  /// (a column or row that is all warp-up or all warp-down is a loose yarn, not a weave).
+  /// when empty, ragged, larger than k_max_draft_threads, or not 0/1. A row
+  /// or column that never interlaces is a float over or under the whole
+  /// repeat: real cloth (an overshot's pattern picks, a selvedge), kept.
   explicit WeaveDraft(std::vector<std::vector<int>> matrix);
 
   /// Named drafts: "plain", "twill_2_1", "twill_2_2", "satin_5", "satin_8",

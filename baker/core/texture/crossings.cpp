@@ -1,0 +1,36 @@
+#include "core/texture/crossings.h"
+
+#include <cmath>
+
+#include "core/weave/thread_layout.h"
+#include "core/weave/weave.h"
+
+namespace clothbake {
+
+Image crossing_tops(const VolumeTexture& volume, const ClothSpec& spec) {
+  const WeaveDraft draft = !spec.draft.empty() ? WeaveDraft(spec.draft)
+                           : spec.pattern == k_uniform_pattern ? WeaveDraft({{1, 0}, {0, 1}})
+                                                               : WeaveDraft::named(spec.pattern);
+  const ThreadLayout ends(spec.warp, draft.ends(), "warp");
+  const ThreadLayout picks(spec.weft, draft.picks(), "weft");
+  const Imath::V3f cell = volume.cell_size_mm();
+  Image image(ends.count(), picks.count(), 4);
+  for (int p = 0; p < picks.count(); ++p)
+    for (int e = 0; e < ends.count(); ++e) {
+      const int i = int(std::floor(ends.centre_mm(e) / cell.x));
+      const int j = int(std::floor(picks.centre_mm(p) / cell.y));
+      float* px = image.at(e, p);
+      for (int k = volume.nz() - 1; k >= 0; --k) {
+        const Cell& c = volume.at(i, j, k);
+        if (c.density <= 0.0f) continue;
+        px[0] = c.diffuse.x;
+        px[1] = c.diffuse.y;
+        px[2] = c.diffuse.z;
+        px[3] = float(c.family);
+        break;
+      }
+    }
+  return image;
+}
+
+}  // namespace clothbake

@@ -1,0 +1,42 @@
+#include "core/weave/drawdown_image.h"
+
+#include "core/weave/thread_layout.h"
+#include "core/weave/weave.h"
+
+namespace clothbake {
+
+namespace {
+WeaveDraft draft_of(const ClothSpec& spec) {
+  if (!spec.draft.empty()) return WeaveDraft(spec.draft);
+  if (spec.pattern == k_uniform_pattern) return WeaveDraft({{1, 0}, {0, 1}});
+  return WeaveDraft::named(spec.pattern);
+}
+}  // namespace
+
+void repeat_threads(const ClothSpec& spec, int& ends, int& picks) {
+  const WeaveDraft draft = draft_of(spec);
+  ends = ThreadLayout(spec.warp, draft.ends(), "warp").count();
+  picks = ThreadLayout(spec.weft, draft.picks(), "weft").count();
+}
+
+Image drawdown_image(const ClothSpec& spec, int block) {
+  const WeaveDraft draft = draft_of(spec);
+  const ThreadLayout ends(spec.warp, draft.ends(), "warp");
+  const ThreadLayout picks(spec.weft, draft.picks(), "weft");
+  Image image(ends.count() * block, picks.count() * block, 3);
+  const bool lines = block >= 4;
+  for (int p = 0; p < picks.count(); ++p)
+    for (int e = 0; e < ends.count(); ++e) {
+      const Imath::V3f c = draft.warp_up(p, e) ? ends.color(e) : picks.color(p);
+      const int y0 = (picks.count() - 1 - p) * block;  // pick 1 at the bottom
+      for (int y = 0; y < block; ++y)
+        for (int x = 0; x < block; ++x) {
+          const bool edge = lines && (x == block - 1 || y == block - 1);
+          float* px = image.at(e * block + x, y0 + y);
+          for (int k = 0; k < 3; ++k) px[k] = edge ? 0.25f * c[k] : c[k];
+        }
+    }
+  return image;
+}
+
+}  // namespace clothbake
