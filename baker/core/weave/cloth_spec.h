@@ -56,9 +56,9 @@ struct ResolutionSpec {
   /// max(64, cells_per_thread x threads): see resolved_resolution().
   int cells_x = 0;      ///< cells across the repeat along x (weft direction)
   int cells_y = 0;      ///< cells across the repeat along y (warp direction)
-  int cells_per_thread = 8;  ///< automatic cells per warp end (x) and per weft pick (y) of a draft
   int layers = 16;      ///< cells through the cloth's thickness (z)
   int supersample = 2;  ///< s: each cell's rho averages s^3 sub-cell points, [1, 8]
+  int cells_per_thread = 8;  ///< automatic cells per warp end (x) and per weft pick (y) of a draft
 };
 
 /// Pattern name of a homogeneous slab instead of a weave: every cell has

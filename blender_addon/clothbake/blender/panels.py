@@ -1,8 +1,12 @@
 """The clothbake panel (Properties > Object > clothbake) and the File >
 Import / Export menu entries."""
+import os
+
 import bpy
 
-from ..core.cloth_fields import DRAFT
+from ..core import wif_cloth
+from ..core.cloth_fields import DRAFT, WIF
+from . import wif_preview
 from ..core.material_settings import MATERIAL_SETTINGS
 from .operators_bake import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_estimate,
                              estimate_is_current)
@@ -70,11 +74,18 @@ class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
         layout.prop(cloth, "weave")
         if cloth.weave == DRAFT:
             layout.label(text="Draft from the spec file", icon="INFO")
+        draft = None
+        if cloth.weave == WIF:
+            draft = _draw_wif(layout, context, context.object, cloth)
         for family in ("warp", "weft"):
             col = layout.column(heading=family.capitalize(), align=True)
-            col.prop(cloth, f"{family}_color", text=f"{family.capitalize()} colour")
-            col.prop(cloth, f"{family}_spacing_mm", text="Spacing (mm)")
-            col.prop(cloth, f"{family}_width_mm", text="Width (mm)")
+            if draft is None:  # a WIF cloth's colours are its palette's
+                col.prop(cloth, f"{family}_color", text=f"{family.capitalize()} colour")
+            mean = draft is not None and (wif_cloth.varies(draft.get(f"{family}_spacing_mm")) or
+                                          wif_cloth.varies(draft.get(f"{family}_width_mm")))
+            col.prop(cloth, f"{family}_spacing_mm",
+                     text="Spacing (mm, mean)" if mean else "Spacing (mm)")
+            col.prop(cloth, f"{family}_width_mm", text="Width (mm, mean)" if mean else "Width (mm)")
             col.prop(cloth, f"{family}_thickness_mm", text="Thickness (mm)")
             col.prop(cloth, f"{family}_twist_deg", text="Ply twist (deg)")
             col.prop(cloth, f"{family}_ply_pitch_mm", text="Ply pitch (mm)")
@@ -89,6 +100,63 @@ class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
         col.prop(cloth, "supersample")
         if context.scene.clothbake.shading == "isotropic":
             layout.prop(cloth, "isotropic_albedo")
+
+
+def _draw_wif(layout, context, obj, cloth):
+    """The WIF draft: its name and size, the drawdown in the palette as
+    edited, and one colour field per distinct colour. Returns the compact
+    draft (None when it could not be read)."""
+    box = layout.box()
+    if cloth.wif_status:
+        col = box.column()
+        col.alert = True
+        col.label(text="The WIF file could not be read:", icon="ERROR")
+        for part in _wrap(cloth.wif_status, 48):
+            col.label(text=part)
+    draft = wif_preview.draft(cloth)
+    if draft is None:
+        if not cloth.wif_status:
+            box.label(text="Pick a .wif (or a spec naming one) as the cloth file", icon="INFO")
+        return None
+    box.label(text=os.path.basename(cloth.wif_path) or "WIF", icon="TEXTURE")
+    box.label(text=f"{draft['ends']} ends x {draft['picks']} picks, "
+                   f"{len(cloth.wif_palette)} colours")
+    program = wif_cloth.source_program(draft)
+    if program:
+        box.label(text=f"Made with {program}")
+    prev = wif_preview.preview(cloth)
+    # The icon is drawn in a square of scale x 20 px (UI units), as wide as
+    # the panel allows.
+    width = context.region.width / max(context.preferences.view.ui_scale, 0.1) if context.region \
+        else 300
+    scale = max(4.0, min(16.0, (width - 50) / 20.0))
+    box.template_icon(icon_value=prev.icon_id, scale=scale)
+    wif_preview.drawn[obj.name_full] = {"icon_id": prev.icon_id,
+                                        "image_size": tuple(prev.image_size),
+                                        "block": wif_cloth.drawdown_block(draft["ends"],
+                                                                          draft["picks"]),
+                                        "scale": scale}
+    col = box.column(align=True)
+    col.label(text="Palette")
+    for i, item in enumerate(cloth.wif_palette):
+        counts = ", ".join(t for t in (f"{item.ends} ends" if item.ends else "",
+                                      f"{item.picks} picks" if item.picks else "") if t)
+        row = col.split(factor=0.5, align=True)
+        row.label(text=f"{i + 1}: {counts}")
+        row.prop(item, "color", text="")
+    return draft
+
+
+def _wrap(text, width):
+    """`text` in lines of at most about `width` characters, at spaces."""
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}" if line else word
+    return lines + ([line] if line else [])
 
 
 def _split_column(layout):

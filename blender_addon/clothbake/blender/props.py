@@ -8,18 +8,31 @@ Export refers to the file as long as no field is edited; once one is
 (`cloth_edited`), export writes the cloth inline: the file's spec with the
 fields written over it, so what the panel does not show (density, shading,
 an explicit draft) is kept. Picking another file reloads the fields from it.
+
+WIF drafts (issue 23). The cloth file may be a .wif, or a JSON spec whose
+weave.wif names one. The program reads it (`clothbake draft`, into a folder
+of Blender's session temp) and the object keeps its reading (`wif_draft`: the
+drawdown and each thread's index into the palette), the palette as editable
+colours (`wif_palette`) and the fields as loaded (`wif_loaded`). Editing a
+palette colour recolours every thread that uses it; once anything is edited,
+export writes the cloth inline: {"weave": {"wif": ABSOLUTE_PATH}, "warp":
+{"colors": per end}, "weft": {"colors": per pick}} and only the fields that
+changed (core/wif_cloth.py), so the file's per-thread spacings and widths stay
+unless their field is edited.
 """
 import json
 import os
+import tempfile
 
 import bpy
 
-from ..core import cloth_fields
+from ..core import cloth_fields, wif_cloth
 from ..core.errors import ClothbakeError
 from ..core.defaults import (BAKE_SPP_RANGE, DIRECTIONS_RANGE, RENDER_DEFAULTS,
                              TEXELS_PER_PIXEL_MAX, TEXELS_RANGE)
 from ..core.material_settings import MATERIAL_SETTINGS
 from ..core.scene_export import FIBER_MODELS, SHADINGS, TRANSMITTANCES
+from . import prefs
 
 _loading = False  # true while fields are filled from a spec: not an edit
 
@@ -27,6 +40,11 @@ _loading = False  # true while fields are filled from a spec: not an edit
 def _mark_edited(self, context):
     if not _loading:
         self.cloth_edited = True
+
+
+def _palette_changed(self, context):
+    if not _loading:
+        self.id_data.clothbake.cloth_edited = True
 
 
 def _cloth_path_changed(self, context):
@@ -39,7 +57,10 @@ def _cloth_path_changed(self, context):
 
 
 def read_cloth_file(path):
-    """The spec dict of a cloth spec file; raises ClothbakeError."""
+    """The spec dict of a cloth spec file (a .wif stands for {"weave": {"wif":
+    PATH}}); raises ClothbakeError."""
+    if wif_cloth.is_wif_path(path):
+        return wif_cloth.wif_spec_of_file(path)
     try:
         with open(path, encoding="utf-8") as f:
             spec = json.load(f)
@@ -63,7 +84,30 @@ _WEAVE_ITEMS = [
     ("basket_2x2", "Basket 2x2", "Basket weave, pairs of yarns"),
     ("uniform", "Uniform slab", "A homogeneous slab (for analytic checks)"),
     (cloth_fields.DRAFT, "Explicit draft", "The draft matrix of the cloth spec file"),
+    (cloth_fields.WIF, "WIF draft", "The drawdown, colours and sizes of the WIF file the cloth "
+     "file is or names"),
 ]
+
+
+def draft_cache_root():
+    """Where `clothbake draft` writes: Blender's temp folder of this session."""
+    return bpy.app.tempdir or tempfile.gettempdir()
+
+
+class ClothbakeWifColor(bpy.types.PropertyGroup):
+    """One distinct colour of a WIF cloth's palette (obj.clothbake.wif_palette)."""
+    __annotations__ = {
+        "color": bpy.props.FloatVectorProperty(
+            name="Colour", subtype="COLOR", size=3, min=0.0, max=1.0, update=_palette_changed,
+            description="Diffuse albedo (linear RGB) of every thread of this colour"),
+        "loaded": bpy.props.FloatVectorProperty(
+            name="Loaded colour", size=3, options={"HIDDEN"},
+            description="The colour as the draft gave it"),
+        "ends": bpy.props.IntProperty(name="Ends", options={"HIDDEN"},
+                                      description="Warp ends of this colour"),
+        "picks": bpy.props.IntProperty(name="Picks", options={"HIDDEN"},
+                                       description="Weft picks of this colour"),
+    }
 
 
 def _float(name, default, lo, hi, desc, step=1, precision=3):
@@ -101,8 +145,9 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
             description="Export this mesh as a clothbake cloth object (quads with UVs)"),
         "cloth_path": bpy.props.StringProperty(
             name="Cloth spec file", subtype="FILE_PATH", update=_cloth_path_changed,
-            description="Cloth spec JSON this cloth came from; export refers to it until a "
-                        "field below is edited, then writes the cloth inline"),
+            description="Cloth spec JSON this cloth came from, or a WIF weaving draft (.wif); "
+                        "export refers to it until a field below is edited, then writes the "
+                        "cloth inline"),
         "cloth_base": bpy.props.StringProperty(
             name="Base spec", options={"HIDDEN"},
             description="JSON of the spec the fields came from (kept for the keys the panel "
@@ -113,6 +158,19 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
                         "inline"),
         "weave": bpy.props.EnumProperty(name="Weave", items=_WEAVE_ITEMS, default="plain",
                                         update=_mark_edited),
+        "wif_path": bpy.props.StringProperty(
+            name="WIF file", options={"HIDDEN"},
+            description="Absolute path of the WIF file whose draft the panel shows"),
+        "wif_draft": bpy.props.StringProperty(
+            name="WIF draft", options={"HIDDEN"},
+            description="The program's reading of the draft (JSON: drawdown, palette, the "
+                        "threads' palette indices)"),
+        "wif_loaded": bpy.props.StringProperty(
+            name="Fields as loaded", options={"HIDDEN"},
+            description="JSON of the fields as the draft was loaded (edits are what differs)"),
+        "wif_status": bpy.props.StringProperty(
+            name="WIF status", description="Why the draft could not be read, if it could not"),
+        "wif_palette": bpy.props.CollectionProperty(type=ClothbakeWifColor, name="Palette"),
         **_yarn("warp", (0.60, 0.09, 0.08)),
         **_yarn("weft", (0.55, 0.42, 0.10)),
         "crimp": _float("Crimp", 1.0, 0.0, 2.0,
@@ -180,13 +238,109 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
 
     def load_cloth_file(self, path):
         global _loading
-        spec = read_cloth_file(bpy.path.abspath(path))
+        full = os.path.abspath(bpy.path.abspath(path))
+        spec = read_cloth_file(full)
         self.set_fields_from_spec(spec, path)
         _loading = True
         try:
             self.cloth_path = path
         finally:
             _loading = False
+        wif = wif_cloth.absolute_wif(spec, os.path.dirname(full))
+        if wif:
+            self.load_wif(spec, wif, full)
+        else:
+            self.clear_wif()
+
+    # -- WIF drafts -------------------------------------------------------------
+    def clear_wif(self):
+        global _loading
+        _loading = True
+        try:
+            self.wif_path = self.wif_draft = self.wif_loaded = self.wif_status = ""
+            self.wif_palette.clear()
+        finally:
+            _loading = False
+
+    def load_wif(self, spec, wif_path, input_path=None):
+        """Runs `clothbake draft` on `input_path` (the .wif or the spec file;
+        None: `spec` is inline, written to the cache with `wif_path`) and
+        fills the palette and the fields from its reading; not an edit.
+        Returns the program's message when it refused (also kept in
+        wif_status, which the panel shows), else ""."""
+        global _loading
+        self.clear_wif()
+        _loading = True
+        try:
+            self.wif_path = wif_path
+        finally:
+            _loading = False
+        try:
+            program = prefs.program_path(bpy.context)
+            if program is None:
+                raise ClothbakeError("the clothbake program was not found; set its path in the "
+                                     "add-on's preferences (it reads the WIF file)")
+            root = draft_cache_root()
+            if input_path is None:
+                input_path = wif_cloth.write_spec_for_draft(spec, wif_path, root,
+                                                            self.id_data.name)
+            draft, _ = wif_cloth.run_draft(program, input_path, root)
+        except (ClothbakeError, OSError) as e:
+            _loading = True
+            try:
+                self.wif_status = str(e)
+            finally:
+                _loading = False
+            return self.wif_status
+        fields = wif_cloth.fields_for_draft(self.fields(), draft, spec)
+        _loading = True
+        try:
+            for name in cloth_fields.FIELDS:
+                setattr(self, name, fields[name])
+            for i, rgb in enumerate(draft["palette"]):
+                item = self.wif_palette.add()
+                item.name = f"Colour {i + 1}"
+                item.color = rgb
+                item.loaded = rgb
+                item.ends = draft["warp_color_index"].count(i)
+                item.picks = draft["weft_color_index"].count(i)
+            self.wif_draft = json.dumps(wif_cloth.compact_draft(draft), separators=(",", ":"))
+            self.wif_loaded = json.dumps(self.fields())
+        finally:
+            _loading = False
+        return ""
+
+    def draft(self):
+        """The compact draft (core/wif_cloth.compact_draft), or None."""
+        return json.loads(self.wif_draft) if self.wif_draft else None
+
+    def palette(self):
+        return [list(c.color) for c in self.wif_palette]
+
+    def thread_colors(self):
+        """(per-end, per-pick) colours in the palette as edited."""
+        d = self.draft()
+        palette = self.palette()
+        return (wif_cloth.thread_colors(palette, d["warp_color_index"]),
+                wif_cloth.thread_colors(palette, d["weft_color_index"]))
+
+    def wif_inline_spec(self):
+        """The inline spec of an edited WIF cloth (core/wif_cloth.inline_spec)."""
+        if not self.wif_path:
+            raise ClothbakeError(f"object '{self.id_data.name}': the weave is a WIF draft, but no "
+                                 "WIF file is loaded; pick a .wif as the cloth spec file, or a "
+                                 "named weave")
+        if not self.wif_draft:  # the program refused the file: its message, once
+            if self.wif_status:
+                raise ClothbakeError(f"{self.wif_status}; fix the file and pick it again")
+            raise ClothbakeError("the WIF draft could not be read; pick the cloth file again",
+                                 self.wif_path)
+        base = json.loads(self.cloth_base) if self.cloth_base else {}
+        changed = wif_cloth.changed_fields(self.fields(), json.loads(self.wif_loaded))
+        warp = weft = None
+        if wif_cloth.palette_edited(self.palette(), [list(c.loaded) for c in self.wif_palette]):
+            warp, weft = self.thread_colors()
+        return wif_cloth.inline_spec(base, self.wif_path, changed, warp, weft)
 
     def load_from_scene_object(self, o):
         """Takes an object of a loaded scene (clothbake.core.scene.load_scene):
@@ -202,6 +356,10 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
                 self.cloth_path = ""
             finally:
                 _loading = False
+            if "cloth_wif_path" in o:
+                self.load_wif(o["cloth"], o["cloth_wif_path"])
+            else:
+                self.clear_wif()
         self.is_cloth = True
         self.repeats_per_uv = o["repeats_per_uv"]
         self.thickness_world = o["thickness_world"]
@@ -214,6 +372,8 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
         path while unedited, else the spec dict."""
         if self.cloth_path and not self.cloth_edited:
             return os.path.abspath(bpy.path.abspath(self.cloth_path))
+        if self.weave == cloth_fields.WIF:
+            return self.wif_inline_spec()
         base = json.loads(self.cloth_base) if self.cloth_base else None
         return cloth_fields.spec_from_fields(self.fields(), base)
 
@@ -367,7 +527,7 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
         return ""
 
 
-CLASSES = (ClothbakeObjectSettings, ClothbakeSceneSettings)
+CLASSES = (ClothbakeWifColor, ClothbakeObjectSettings, ClothbakeSceneSettings)
 
 
 def register_extra():

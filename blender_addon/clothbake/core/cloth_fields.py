@@ -12,10 +12,12 @@ import struct
 from .errors import ClothbakeError
 
 # Named drafts of baker/core/weave/weave.cpp, plus "uniform" (a homogeneous slab,
-# for analytic checks) and "draft" (an explicit weave.draft matrix, which the
-# panel cannot edit: it comes from the spec file).
+# for analytic checks), "draft" (an explicit weave.draft matrix, which the
+# panel cannot edit: it comes from the spec file) and "wif" (a weaving draft
+# file, weave.wif: its drawdown and colours, core/wif_cloth.py).
 WEAVES = ("plain", "twill_2_1", "twill_2_2", "satin_5", "satin_8", "basket_2x2", "uniform")
 DRAFT = "draft"
+WIF = "wif"
 
 _YARN = (  # key, default warp, default weft (baker/core/weave/cloth_spec.h)
     ("spacing_mm", 0.5, 0.5),
@@ -89,7 +91,14 @@ def fields_from_spec(spec, path=""):
     weave = spec.get("weave", {})
     if not isinstance(weave, dict):
         raise ClothbakeError("must be an object", path, "weave")
-    if weave.get("draft") is not None:
+    given = [k for k in ("pattern", "draft", "wif") if weave.get(k) is not None]
+    if len(given) > 1:  # as the program's reader (io/cloth_spec_json.cpp)
+        raise ClothbakeError("give one of pattern, draft or wif", path, "weave")
+    if "wif" in weave:
+        if not isinstance(weave["wif"], str) or not weave["wif"]:
+            raise ClothbakeError("must be the path of a WIF file", path, "weave.wif")
+        fields["weave"] = WIF
+    elif weave.get("draft") is not None:
         fields["weave"] = DRAFT
     elif "pattern" in weave:
         if weave["pattern"] not in WEAVES:
@@ -121,13 +130,19 @@ def fields_from_spec(spec, path=""):
 def spec_from_fields(fields, base=None):
     """A cloth spec dict: `base` (the spec the object came from, or none)
     with every field of `fields` written over it. Raises ClothbakeError when
-    the weave is "draft" but `base` holds no draft."""
+    the weave is "draft" (or "wif") but `base` holds no draft (no weave.wif).
+    A WIF cloth's edits are written by wif_cloth.inline_spec, which writes
+    only the fields that changed."""
     spec = copy.deepcopy(base) if isinstance(base, dict) else {}
     weave = fields.get("weave", "plain")
     if weave == DRAFT:
         if _get(spec, ("weave", "draft")) is None:
             raise ClothbakeError("the weave is an explicit draft, but the cloth spec holds no "
                                  "weave.draft; pick a named weave", "", "weave")
+    elif weave == WIF:
+        if _get(spec, ("weave", "wif")) is None:
+            raise ClothbakeError("the weave is a WIF draft, but the cloth spec names no WIF file "
+                                 "(weave.wif); pick a cloth file or a named weave", "", "weave")
     elif weave in WEAVES:
         spec["weave"] = {"pattern": weave}
     else:

@@ -209,6 +209,9 @@ def _object(oj, where, folder, path):
         except ClothbakeError as e:
             raise ClothbakeError(e.message, path, ".".join(
                 p for p in (where + ".cloth", e.field) if p)) from None
+        wif = cloth.get("weave", {}).get("wif") if isinstance(cloth.get("weave"), dict) else None
+        if wif is not None:  # an inline spec's weave.wif is relative to the scene file
+            obj["cloth_wif_path"] = os.path.normpath(os.path.join(folder, wif))
     else:
         raise ClothbakeError("must be a cloth spec object or the path of one", path,
                              where + ".cloth")

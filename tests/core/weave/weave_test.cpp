@@ -87,11 +87,22 @@ std::string error_field(const std::function<void()>& f) {
   return "(no error)";
 }
 
+// A pick over (or under) every end is a float, real cloth: kept, not refused.
+TEST(WeaveDraft, FloatsAreKept) {
+  const WeaveDraft d({{1, 0}, {0, 0}, {1, 1}});
+  EXPECT_EQ(d.picks(), 3);
+  EXPECT_FALSE(d.warp_up(1, 0));
+  EXPECT_FALSE(d.warp_up(1, 1));
+  EXPECT_TRUE(d.warp_up(2, 0));
+  EXPECT_TRUE(d.warp_up(2, 1));
+}
+
 TEST(WeaveDraft, BadDraftsNameTheField) {
   EXPECT_EQ(error_field([] { WeaveDraft(std::vector<std::vector<int>>{}); }), "weave.draft");
   EXPECT_EQ(error_field([] { WeaveDraft({{1, 0}, {0}}); }), "weave.draft[1]");
   EXPECT_EQ(error_field([] { WeaveDraft({{1, 2}, {0, 1}}); }), "weave.draft[0][1]");
-  EXPECT_EQ(error_field([] { WeaveDraft({{1, 0}, {1, 0}}); }), "weave.draft");  // loose end
+  EXPECT_EQ(error_field([] { WeaveDraft(std::vector<std::vector<int>>(1, std::vector<int>(4097, 0))); }),
+            "weave.draft");  // over k_max_draft_threads
   EXPECT_EQ(error_field([] { WeaveDraft::named("herringbone"); }), "weave.pattern");
 }
 
