@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes every reader clothbake writes itself (tests/fuzz/: scene, cloth_spec,
-# manifest, obj, cli_args) with libFuzzer + AddressSanitizer + UBSan, each for
+# manifest, obj, cli_args, wif) with libFuzzer + AddressSanitizer + UBSan, each for
 # a bounded time, and prints executions, corpus size and crashes per target.
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   (default 60 s, all targets)
 # Build: build-fuzz/ (clang, -DCLOTHBAKE_FUZZ=ON). Corpora grow across runs in
@@ -12,7 +12,7 @@ source "$(dirname "$0")/lib.sh"
 seconds=${1:-60}
 shift || true
 targets=("$@")
-((${#targets[@]})) || targets=(scene cloth_spec manifest obj cli_args)
+((${#targets[@]})) || targets=(scene cloth_spec manifest obj cli_args wif)
 build=${CLOTHBAKE_FUZZ_BUILD:-$CLOTHBAKE_ROOT/build-fuzz}
 src=$CLOTHBAKE_ROOT
 
@@ -33,6 +33,7 @@ seeds() {
     obj) ls "$src"/testscenes/*/*.obj "$src"/tests/cli/bad_scenes/meshes/*.obj ;;
     manifest) ls "$src"/tests/fuzz/files/lookup/manifest.json ;;
     cli_args) ls "$src"/tests/fuzz/seeds/cli_args/* ;;
+    wif) find "$src"/testscenes/wif "$src"/tests/cli/bad_wifs -iname '*.wif' ;;
   esac
 }
 dict() {

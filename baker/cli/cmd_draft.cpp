@@ -77,7 +77,8 @@ void run_draft(const DraftArgs& args) {
     }
   };
   nlohmann::json j = {{"source", args.input},
-                      {"source_program", spec.draft_source},
+                      {"source_program", spec.draft_program},
+                      {"wif", spec.draft_source},
                       {"ends", ends.count()},
                       {"picks", picks.count()},
                       {"warp_up", up},

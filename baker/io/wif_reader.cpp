@@ -286,10 +286,13 @@ WifFamily read_family(const WifText& f, const char* name, int threads, const Pal
   const Section& s = *f.section(name);  // required_count checked it exists
   const double mm = unit_mm(f, s);
   if (const Entry* e = s.find("COLOR")) {
-    if (e->value.find(',') != std::string::npos)
+    // WIF 1.1: "1 or 4 integers", the palette index and optionally its RGB
+    // (which readers are to ignore). Three numbers are read as an RGB.
+    const auto items = split_commas(e->value);
+    if (items.size() == 3)
       fam.color = rgb_in_range(f, s, *e, e->value, pal);
     else
-      fam.color = pal.linear.at(palette_index(f, s, *e, e->value, pal));
+      fam.color = pal.linear.at(palette_index(f, s, *e, items[0], pal));
   }
   auto positive_length = [&](const Section& sec, const Entry& e, const char* what) {
     const double v = to_real(f, sec, e, e.value, what);
@@ -383,10 +386,16 @@ WifFile parse_wif(const std::string& text, const std::string& path) {
       d.treadling[entry_number(f, *treadling, e, d.picks, "[WEFT] Threads") - 1] =
           to_list(f, *treadling, e, d.treadles, "[WEAVING] Treadles");
     d.tieup.assign(d.treadles, {});
+    // A tie-up row for a treadle above Treadles is one no pick can press:
+    // Fiberworks PCW writes them (its tabby treadles), so they are skipped.
     if (tieup != nullptr)
-      for (const Entry& e : tieup->entries)
-        d.tieup[entry_number(f, *tieup, e, d.treadles, "[WEAVING] Treadles") - 1] =
-            to_list(f, *tieup, e, d.shafts, shafts_name);
+      for (const Entry& e : tieup->entries) {
+        const long long t = to_integer(f, *tieup, e, e.key, "a numbered entry N=...");
+        if (t < 1)
+          f.fail(WifText::where(*tieup, e.line), "entry " + std::to_string(t) + " is below 1");
+        const std::vector<int> shafts = to_list(f, *tieup, e, d.shafts, shafts_name);
+        if (t <= d.treadles) d.tieup[t - 1] = shafts;
+      }
   }
 
   const Palette palette = read_palette(f);
@@ -402,7 +411,8 @@ WifFile read_wif_file(const std::string& path) {
 
 ClothSpec apply_wif(const WifFile& wif, ClothSpec spec) {
   spec.draft = drawdown(wif.loom);
-  spec.draft_source = wif.path + (wif.source_program.empty() ? "" : " (" + wif.source_program + ")");
+  spec.draft_source = wif.path;
+  spec.draft_program = wif.source_program;
   auto family = [&](const WifFamily& fam, YarnSpec& y) {
     // The cross-section keeps the default's height-to-width ratio.
     const float aspect = y.thickness_mm / y.width_mm;
@@ -430,6 +440,15 @@ ClothSpec apply_wif(const WifFile& wif, ClothSpec spec) {
     };
     y.spacings_mm = filled(fam.spacings_mm, y.spacing_mm);
     y.widths_mm = filled(fam.thicknesses_mm, y.width_mm);
+    if (!fam.thickness_mm && fam.thicknesses_mm.empty() && !y.spacings_mm.empty()) {
+      // Spacing per thread but no thickness: each thread fills the same share
+      // of the narrower gap beside it as clothbake's default yarn does.
+      const size_t n = y.spacings_mm.size();
+      y.widths_mm.resize(n);
+      for (size_t i = 0; i < n; ++i)
+        y.widths_mm[i] =
+            width_per_spacing * std::min(y.spacings_mm[i], y.spacings_mm[(i + n - 1) % n]);
+    }
   };
   family(wif.warp, spec.warp);
   family(wif.weft, spec.weft);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every bad input in DIR/*.json must give: exit status 1, the exact message in
+# Every bad input in DIR/*.json (and DIR/*.wif, weaving drafts) must give: exit status 1, the exact message in
 # DIR/NAME.expect (as "clothbake: error: FILE: ..."), and no output (nor a
 # temporary file beside it). The catalogue of other commands' bad inputs is
 # bad_commands.sh.
@@ -45,8 +45,9 @@ check() {  # name, input path, expected substring
   echo "ok   $name: $err"
 }
 n=0
-for input in "$dir"/*.json; do
-  name=$(basename "$input" .json)
+shopt -s nullglob
+for input in "$dir"/*.json "$dir"/*.wif; do
+  name=$(basename "$input"); name=${name%.*}
   check "$name" "$input" "$(cat "$dir/$name.expect")"
   n=$((n + 1))
 done

@@ -47,8 +47,12 @@ class PeriodicNoise {
     m_ly = std::max(1, int(std::lround(size_mm.y / scale_mm)));
     m_lz = std::max(1, int(std::lround(size_mm.z / scale_mm)));
     // The lattice values are tabulated once: a few thousand hashes instead of
-    // sixteen per lookup.
-    for (int f = 1; f <= 2; ++f) {
+    // sixteen per lookup. A long repeat (a draft of hundreds of threads) has
+    // a lattice too large to hold (a 91 x 480 overshot: 10^10 points), so
+    // there each value is hashed when needed: the same value either way.
+    m_seed = seed;
+    m_tabulated = double(m_lx) * m_ly * (m_lz + 1) * 9.0 <= double(k_max_table);
+    for (int f = 1; f <= 2 && m_tabulated; ++f) {
       const int lx = m_lx * f, ly = m_ly * f, lz = m_lz * f + 1;
       std::vector<float>& table = m_lattice[f - 1];
       table.resize(size_t(lx) * ly * lz);
@@ -78,12 +82,20 @@ class PeriodicNoise {
         for (int dx = 0; dx < 2; ++dx) {
           const int ix = (((x0 + dx) % lx) + lx) % lx, iy = (((y0 + dy) % ly) + ly) % ly;
           const float w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
-          acc += w * table[(size_t(z0 + dz) * ly + iy) * lx + ix];
+          const float value =
+              m_tabulated ? table[(size_t(z0 + dz) * ly + iy) * lx + ix]
+                          : 2.0f * unit_float(hash_key(m_seed, rng_stream::noise, f, ix, iy,
+                                                       z0 + dz)) -
+                                1.0f;
+          acc += w * value;
         }
     return acc;
   }
+  static constexpr size_t k_max_table = size_t(1) << 24;  // lattice points of both octaves
   V3f m_size;
   int m_lx, m_ly, m_lz;
+  uint64_t m_seed = 0;
+  bool m_tabulated = true;
   std::vector<float> m_lattice[2];  // per octave, [z][y][x], z has one extra plane
 };
 

@@ -72,6 +72,7 @@ struct ClothSpec {
   /// Where the draft came from when it was read from a weaving file (a WIF):
   /// text for reports only, not part of the texture.
   std::string draft_source;
+  std::string draft_program;  ///< the program that wrote that file, when it says
   YarnSpec warp;                        ///< runs along +y
   YarnSpec weft{0.5f, 0.44f, 0.18f, {0.55f, 0.42f, 0.10f}, 28.0f, 1.0f, {}, {}, {}};  ///< runs along +x
   float crimp = 1.0f;  ///< over/under amplitude; 1 = yarns just touch at crossings, [0, 2]

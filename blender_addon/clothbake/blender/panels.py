@@ -141,7 +141,7 @@ def _draw_wif(layout, context, obj, cloth):
     for i, item in enumerate(cloth.wif_palette):
         counts = ", ".join(t for t in (f"{item.ends} ends" if item.ends else "",
                                       f"{item.picks} picks" if item.picks else "") if t)
-        row = col.split(factor=0.5, align=True)
+        row = col.split(factor=0.62, align=True)
         row.label(text=f"{i + 1}: {counts}")
         row.prop(item, "color", text="")
     return draft
