@@ -33,7 +33,9 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
                 "density", "shading", "resolution", "seed"});
   if (j.has("weave")) {
     const JsonObject w = j.object("weave");
-    w.allow_only({"pattern", "draft", "wif"});
+    w.allow_only({"pattern", "draft", "wif", "rising_shed"});
+    if (w.has("rising_shed") && !w.has("wif"))
+      w.fail(w.field("rising_shed"), "only with weave.wif (it says how to read the file's lifts)");
     if (int(w.has("pattern")) + int(w.has("draft")) + int(w.has("wif")) > 1)
       w.fail(w.path().empty() ? "weave" : w.path(), "give one of pattern, draft or wif");
     w.read("pattern", s.pattern);
@@ -46,7 +48,14 @@ ClothSpec cloth_spec_from_json(const JsonObject& j) {
       if (rel.empty()) w.fail(w.field("wif"), "the path is empty");
       std::filesystem::path full(rel);
       if (full.is_relative()) full = std::filesystem::path(j.file()).parent_path() / full;
-      s = apply_wif(read_wif_file(full.string()), s);
+      WifFile wif = read_wif_file(full.string());
+      if (w.has("rising_shed")) {
+        const auto& v = w.raw("rising_shed");
+        if (!v.is_boolean())
+          w.fail(w.field("rising_shed"), "expected true or false, got " + json_type_name(v));
+        wif.loom.rising_shed = v.get<bool>();  // overrides the file's Rising Shed
+      }
+      s = apply_wif(wif, s);
     }
   }
   if (j.has("warp")) read_yarn(j.object("warp"), s.warp);

@@ -184,6 +184,11 @@ TEST(WifReader, SpecKeysBesideTheFileOverrideIt) {
   EXPECT_TRUE(b.weft.colors.empty());  // one colour for every pick replaces the file's
   EXPECT_EQ(b.weft.color, Imath::V3f(0.5f, 0.5f, 0.5f));
   EXPECT_EQ(b.draft, a.draft);
+  // The shed from the spec: sinking turns this single-shaft draft inside out.
+  std::ofstream(dir / "sink.json") << R"({"weave": {"wif": "d.wif", "rising_shed": false}})";
+  const ClothSpec c = load_cloth_spec((dir / "sink.json").string());
+  for (size_t p = 0; p < a.draft.size(); ++p)
+    for (size_t e = 0; e < a.draft[p].size(); ++e) EXPECT_EQ(c.draft[p][e], 1 - a.draft[p][e]);
   // The file's errors name the file, not the spec.
   std::ofstream(dir / "bad.wif") << with(t, "[THREADING]\n1=1", "[THREADING]\n1=9");
   std::ofstream(dir / "bad.json") << R"({"weave": {"wif": "bad.wif"}})";
