@@ -200,7 +200,8 @@ int required_count(const WifText& f, const char* section, const char* key, int m
     f.fail(std::string("[") + section + "]",
            std::string("the section is missing; it gives ") + key);
   const Entry* e = s->find(normalise(key));
-  if (e == nullptr) f.fail(std::string("[") + section + "]", std::string(key) + " is missing");
+  if (e == nullptr)
+    f.fail(WifText::where(*s, s->line), std::string(key) + " is missing from the section");
   const long long v = to_integer(f, *s, *e, e->value, "a whole number");
   if (v < 1 || v > max)
     f.fail(WifText::where(*s, e->line), std::string(key) + " must be in 1.." +

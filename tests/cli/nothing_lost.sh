@@ -33,7 +33,7 @@ intact() {  # case name: the previous outputs are intact and nothing else is the
   extra=$(ls -A "$out" | grep -v -x -e r.exr -e r.png -e b -e v)
   [[ -z $extra ]] || fail "$1: left behind in the output folder: $extra"
   extra=$(ls -A "$out/v" | grep -v -x -e volume.vdb -e volume.json -e top.png -e tangents.png \
-    -e section_warp.png -e section_weft.png)
+    -e section_warp.png -e section_weft.png -e drawdown.png -e crossings.exr)
   [[ -z $extra ]] || fail "$1: left behind in the volume folder: $extra"
 }
 # Waits until FILE has a line matching PATTERN (up to 120 s) while PID runs.
@@ -83,11 +83,11 @@ grep -q "2 unfinished outputs removed" "$tmp/render_before_rename.err" || fail "
 interrupted bake_before_rename "holding unfinished .*b.tmp-" CLOTHBAKE_TEST_HOLD_UNFINISHED=60 -- \
   "$exe" bake "$slab" -o "$out/b" --directions 3 --texels 4 --spp 2
 grep -q "1 unfinished output removed" "$tmp/bake_before_rename.err" || fail "bake_before_rename: temporary folder not reported removed"
-# `volume` writes six files (VDB, four previews, summary) and publishes them
+# `volume` writes eight files (VDB, crossings, five previews, summary) and publishes them
 # together: held before the renames, none may have replaced its old version.
 interrupted volume_before_rename "holding unfinished .*volume.tmp.*json" CLOTHBAKE_TEST_HOLD_UNFINISHED=60 -- \
   "$exe" volume "$other_cloth" -o "$out/v"
-grep -q "6 unfinished outputs removed" "$tmp/volume_before_rename.err" || fail "volume_before_rename: temporaries not reported removed"
+grep -q "8 unfinished outputs removed" "$tmp/volume_before_rename.err" || fail "volume_before_rename: temporaries not reported removed"
 
 # --- (b) a full disk: a file size limit (RLIMIT_FSIZE), writes fail with EFBIG --
 refused() {  # name, expected message, command... : exit 1, message, previous intact

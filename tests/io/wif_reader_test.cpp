@@ -150,7 +150,7 @@ TEST(WifReader, RefusalsNameSectionAndLine) {
             "[THREADING] line 20 | names 3, above [WEAVING] Shafts=2");
   EXPECT_EQ(error_of(with(k_base, "[TREADLING]\n1=1", "[TREADLING]\n1=5")),
             "[TREADLING] line 25 | names 5, above [WEAVING] Treadles=2");
-  EXPECT_EQ(error_of(with(k_base, "[WARP]\nThreads=2\n", "[WARP]\n")), "[WARP] | Threads is missing");
+  EXPECT_EQ(error_of(with(k_base, "[WARP]\nThreads=2\n", "[WARP]\n")), "[WARP] line 14 | Threads is missing from the section");
   EXPECT_EQ(error_of(with(k_base, "[THREADING]\n1=1", "[THREADING]\n1=one")),
             "[THREADING] line 19 | expected a list of whole numbers, got 'one'");
   EXPECT_EQ(error_of(with(k_base, "[THREADING]\n1=1", "[THREADING]\n3=1")),
