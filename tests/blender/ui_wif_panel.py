@@ -324,7 +324,8 @@ def reimport():
         message = ""
     except RuntimeError as e:  # an ERROR report
         message = str(e)
-    check("Threads is missing; fix the file and pick it again" in message and
+    check("[WARP] line 6: Threads is missing" in message and
+          "fix the file and pick it again" in message and
           "Traceback" not in message, f"5. and export refuses it edited: {message.strip()}")
 
 
