@@ -45,6 +45,7 @@ struct MaterialArgs {
   long long seed = -1;
   bool quiet = false;
   bool estimate = false;  ///< time a probe of the work, print the estimate as JSON; write nothing
+  std::string parts = "auto";  ///< auto: colour-free parts where possible
 };
 
 /// The input read: a scene's object (the scene kept alive for its volume),
@@ -58,6 +59,8 @@ struct MaterialInput {
 
 MaterialInput read_input(const MaterialArgs& args, uint64_t budget) {
   MaterialInput in;
+  const MaterialParts parts =
+      args.parts == "rgb" ? MaterialParts::Rgb : MaterialParts::SpecularWarpWeft;
   const nlohmann::json doc =
       io::parse_json_text(io::read_text_file(args.input, "a JSON file"), args.input);
   try {
@@ -70,10 +73,15 @@ MaterialInput read_input(const MaterialArgs& args, uint64_t budget) {
         throw InputError("--object", "no object named '" + args.object + "' (nor an index below " +
                                          std::to_string(scene.objects.size()) + ")");
       in.prepared = std::make_unique<ClothScene>(*in.scene, budget);
-      in.source = material_source(*in.prepared, o);
+      in.source = material_source(*in.prepared, o, parts, budget);
       in.cloth_name = in.scene->objects[size_t(o)].name;
+      if (args.parts == "specular-warp-weft" && in.source.parts != parts)
+        throw InputError("--parts", "colour-free parts are not possible for this object: " +
+                                        colour_parts_refusal(scene.settings.shading,
+                                                             scene.objects[size_t(o)].volume !=
+                                                                 nullptr));
     } else {
-      in.source = material_source(io::load_cloth_spec(args.input), budget);
+      in.source = material_source(io::load_cloth_spec(args.input), parts, budget);
       in.cloth_name = std::filesystem::path(args.input).stem().string();
     }
   } catch (const InputError& e) {
@@ -96,6 +104,7 @@ void run_material(const MaterialArgs& args) {
   io::check_folder_destination(args.out_dir, "material");
   const MaterialInput in = read_input(args, budget);
   const MaterialSource& src = in.source;
+  settings.parts = src.parts;
   const uint64_t fixed = material_bake_fixed_bytes(*src.volume, settings, threads);
   if (fixed > budget)
     throw InputError("--memory", "the bake needs at least " + std::to_string(fixed >> 20) +
@@ -111,8 +120,9 @@ void run_material(const MaterialArgs& args) {
   io::ProgressBar bar("material", args.quiet);
   MaterialBakeStats stats;
   const auto t0 = std::chrono::steady_clock::now();
-  const ClothMaterial material = bake_material(*src.volume, *src.shader, src.optics, settings,
-                                               budget, [&](double f) { bar.update(f); }, &stats);
+  ClothMaterial material = bake_material(*src.volume, *src.shader, src.optics, settings, budget,
+                                         [&](double f) { bar.update(f); }, &stats);
+  if (material.colour_parts()) material.set_cloth(src.cloth, src.palette);
   bar.finish();
   const double seconds = seconds_since(t0);
 
@@ -187,6 +197,12 @@ void register_material_command(CLI::App& app, Action action) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
+  cmd->add_option("--parts", args->parts,
+                  "what the table stores: colour-free parts that take the yarn colours when "
+                  "the material renders (specular-warp-weft), RGB with the colours baked in, or "
+                  "auto: colour-free where possible (fibre shading, a cloth made from a spec)")
+      ->check(CLI::IsMember({"auto", "rgb", "specular-warp-weft"}))
+      ->capture_default_str();
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--estimate", args->estimate,
                 "check the inputs, time a probe of the work, print the estimate as JSON; write "

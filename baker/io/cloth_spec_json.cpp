@@ -13,7 +13,7 @@ namespace {
 // colour replaces the file's per-thread values of it.
 void read_yarn(const JsonObject& j, YarnSpec& y) {
   j.allow_only({"spacing_mm", "width_mm", "thickness_mm", "color", "colors", "twist_deg",
-                "ply_pitch_mm"});
+                "ply_pitch_mm", "spacings_mm", "widths_mm"});
   if (j.has("spacing_mm")) y.spacings_mm.clear();
   if (j.has("width_mm")) y.widths_mm.clear();
   if (j.has("color")) y.colors.clear();
@@ -24,8 +24,54 @@ void read_yarn(const JsonObject& j, YarnSpec& y) {
   j.read("colors", y.colors);
   j.read("twist_deg", y.twist_deg);
   j.read("ply_pitch_mm", y.ply_pitch_mm);
+  j.read("spacings_mm", y.spacings_mm);
+  j.read("widths_mm", y.widths_mm);
+}
+
+nlohmann::json yarn_json(const YarnSpec& y) {
+  auto v3 = [](const Imath::V3f& c) { return nlohmann::json::array({c.x, c.y, c.z}); };
+  nlohmann::json j = {{"spacing_mm", y.spacing_mm},     {"width_mm", y.width_mm},
+                      {"thickness_mm", y.thickness_mm}, {"color", v3(y.color)},
+                      {"twist_deg", y.twist_deg},       {"ply_pitch_mm", y.ply_pitch_mm}};
+  if (!y.colors.empty()) {
+    j["colors"] = nlohmann::json::array();
+    for (const Imath::V3f& c : y.colors) j["colors"].push_back(v3(c));
+  }
+  if (!y.spacings_mm.empty()) j["spacings_mm"] = y.spacings_mm;
+  if (!y.widths_mm.empty()) j["widths_mm"] = y.widths_mm;
+  return j;
 }
 }  // namespace
+
+nlohmann::json cloth_spec_json(const ClothSpec& s) {
+  nlohmann::json j;
+  if (s.draft.empty()) j["weave"] = {{"pattern", s.pattern}};
+  else j["weave"] = {{"draft", s.draft}};
+  j["warp"] = yarn_json(s.warp);
+  j["weft"] = yarn_json(s.weft);
+  j["crimp"] = s.crimp;
+  j["angle_spread_deg"] = s.angle_spread_deg;
+  const DensitySpec& d = s.density;
+  j["density"] = {{"core", d.core},
+                  {"edge", d.edge},
+                  {"falloff", d.falloff},
+                  {"top_factor", d.top_factor},
+                  {"noise_amplitude", d.noise_amplitude},
+                  {"noise_scale_mm", d.noise_scale_mm}};
+  const ShadingSpec& h = s.shading;
+  j["shading"] = {{"specular_top", h.specular_top},     {"specular_bottom", h.specular_bottom},
+                  {"diffuse_top", h.diffuse_top},       {"diffuse_bottom", h.diffuse_bottom},
+                  {"exponent", h.exponent},             {"variation", h.variation},
+                  {"fiber_aspect", h.fiber_aspect}};
+  const ResolutionSpec& r = s.resolution;
+  j["resolution"] = {{"cells_x", r.cells_x},
+                     {"cells_y", r.cells_y},
+                     {"cells_per_thread", r.cells_per_thread},
+                     {"layers", r.layers},
+                     {"supersample", r.supersample}};
+  j["seed"] = s.seed;
+  return j;
+}
 
 ClothSpec cloth_spec_from_json(const JsonObject& j) {
   ClothSpec s;

@@ -13,6 +13,10 @@ namespace clothbake::io {
 /// file and the full field path.
 ClothSpec cloth_spec_from_json(const JsonObject& spec_json);
 
+/// The spec as JSON in the same format, every field written (the draft
+/// explicit when it has one): cloth_spec_from_json reads it back equal.
+nlohmann::json cloth_spec_json(const ClothSpec& spec);
+
 /// A WIF file's cloth with clothbake's defaults for what the file does not
 /// say (io/wif_reader.h), validated; errors name the WIF file.
 struct WifFile;

@@ -9,6 +9,7 @@
 #include "core/bake/direction_grid.h"
 #include "core/fiber/fiber_model.h"
 #include "core/march/march_settings.h"
+#include "core/material/material_settings.h"
 #include "io/json_reader.h"
 
 namespace clothbake::io {
@@ -37,6 +38,10 @@ inline constexpr std::array<std::pair<const char*, DirectionMap>, 2> k_light_map
 }};
 /// The same layouts as `clothbake material --light-map` spells them (short,
 /// for typing), in the same order.
+inline constexpr std::array<std::pair<const char*, MaterialParts>, 2> k_material_parts_names{{
+    {"rgb", MaterialParts::Rgb},
+    {"specular-warp-weft", MaterialParts::SpecularWarpWeft},
+}};
 inline constexpr std::array<std::pair<const char*, DirectionMap>, 2> k_light_map_flags{{
     {"horizon", DirectionMap::HemiOctahedralHorizon},
     {"square", DirectionMap::HemiOctahedral},

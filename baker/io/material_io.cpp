@@ -1,5 +1,6 @@
 #include "io/material_io.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -7,6 +8,7 @@
 #include "core/material/material_bake.h"
 #include "core/util/error.h"
 #include "core/util/hex.h"
+#include "io/cloth_spec_json.h"
 #include "io/data_image.h"
 #include "io/enum_names.h"
 #include "io/folder_output.h"
@@ -32,12 +34,28 @@ std::string component_name(int k) {
   return buf;
 }
 
-/// The coefficient channels' names: alpha, then R, G, B of each component.
-std::vector<std::string> level_channels(int max_rank) {
+/// The coefficient channels' names: alpha, then each component's R, G, B,
+/// or its colour-free parts.
+std::vector<std::string> level_channels(int max_rank, MaterialParts parts) {
   std::vector<std::string> names{"A"};
+  const bool rgb = parts == MaterialParts::Rgb;
   for (int k = 0; k < max_rank; ++k)
-    for (const char* c : {"R", "G", "B"}) names.push_back(component_name(k) + "." + c);
+    for (const char* c : rgb ? std::array<const char*, 3>{"R", "G", "B"}
+                             : std::array<const char*, 3>{"specular", "warp", "weft"})
+      names.push_back(component_name(k) + "." + c);
   return names;
+}
+
+json v3_json(const V3f& c) { return json::array({c.x, c.y, c.z}); }
+
+json palette_json(const YarnPalette& p) {
+  auto family = [](const V3f& color, const std::vector<V3f>& colors) {
+    json f = {{"color", v3_json(color)}};
+    for (const V3f& c : colors) f["colors"].push_back(v3_json(c));  // absent when none
+    return f;
+  };
+  return {{"warp", family(p.warp_color, p.warp_colors)},
+          {"weft", family(p.weft_color, p.weft_colors)}};
 }
 
 /// The light factors' channels: one per component, at least one.
@@ -65,7 +83,14 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   json j;
   j["format"] = k_material_format_name;
   j["version"] = k_material_format_version;
+  j["parts"] = enum_name(k_material_parts_names, s.parts);
   j["cloth"] = {{"name", info.cloth_name}, {"hash", hex16(m.cloth_hash)}, {"source", info.source}};
+  if (m.colour_parts()) {
+    j["cloth"]["spec"] = cloth_spec_json(m.cloth);
+    j["cloth"]["colors"] = palette_json(m.palette);
+    j["cloth"]["threads"] = {{"warp", {{"centres_mm", thread_centres_mm(m.cloth, true)}}},
+                             {"weft", {{"centres_mm", thread_centres_mm(m.cloth, false)}}}};
+  }
   j["repeat_mm"] = {m.repeat_mm.x, m.repeat_mm.y, m.repeat_mm.z};
   j["texels"] = s.texels;
   j["levels"] = m.levels();
@@ -151,9 +176,9 @@ void check_format(const JsonObject& top) {
                            format + "\"");
   int version = 0;
   top.read("version", version);
-  if (version != k_material_format_version)
+  if (version < 1 || version > k_material_format_version)
     top.fail("version", "this material has format version " + std::to_string(version) +
-                            "; this clothbake reads version " +
+                            "; this clothbake reads versions 1 to " +
                             std::to_string(k_material_format_version));
 }
 
@@ -169,6 +194,8 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   s.light_map = DirectionMap::HemiOctahedral;  // manifests older than the horizon map
   read_enum(top, "light_direction_map", k_light_map_names, s.light_map);
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
+  s.parts = MaterialParts::Rgb;  // version 1
+  read_enum(top, "parts", k_material_parts_names, s.parts);
   try {
     check_material_settings(s);
   } catch (const InputError& e) {
@@ -232,7 +259,7 @@ void read_table_shape(const JsonObject& top, uint64_t memory_budget, ClothMateri
 /// The level atlases and the light factors, into the allocated table.
 void read_images(const std::string& dir, ClothMaterial& m) {
   const MaterialLayout layout = m.layout();
-  const std::vector<std::string> channels = level_channels(m.max_rank);
+  const std::vector<std::string> channels = level_channels(m.max_rank, m.settings.parts);
   const size_t nc = channels.size();
   for (int l = 0; l < m.levels(); ++l) {
     const int side = layout.level_side(l);
@@ -281,7 +308,7 @@ bool is_material_folder(const std::string& dir) {
 void write_material(const std::string& dir, const ClothMaterial& m, const MaterialInfo& info) {
   const MaterialLayout layout = m.layout();
   write_folder(dir, "material", material_uncompressed_bytes(m), [&](const fs::path& temp_dir) {
-    const std::vector<std::string> channels = level_channels(m.max_rank);
+    const std::vector<std::string> channels = level_channels(m.max_rank, m.settings.parts);
     for (int l = 0; l < m.levels(); ++l)
       write_data_image((temp_dir / level_file(l)).string(), layout.atlas_width(l),
                        layout.atlas_height(l), channels, level_pixels(m, l).data());
@@ -315,6 +342,22 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
   m.light_grid.k = m.settings.light_directions;
   m.light_grid.map = m.settings.light_map;
   read_table_shape(top, memory_budget, m);
+  if (m.colour_parts()) {
+    for (const char* key : {"spec", "colors"})
+      if (!cloth.has(key)) cloth.fail(cloth.field(key), "is missing (the parts are colour-free)");
+    const ClothSpec spec = cloth_spec_from_json(cloth.object("spec"));
+    const JsonObject colors = cloth.object("colors");
+    YarnPalette p;
+    const JsonObject warp = colors.object("warp"), weft = colors.object("weft");
+    warp.read("color", p.warp_color);
+    warp.read("colors", p.warp_colors);
+    weft.read("color", p.weft_color);
+    weft.read("colors", p.weft_colors);
+    m.set_cloth(spec, p);
+    if (!(std::fabs(thread_repeat_mm(spec, true) / m.repeat_mm.x - 1.0f) < 1e-4f) ||
+        !(std::fabs(thread_repeat_mm(spec, false) / m.repeat_mm.y - 1.0f) < 1e-4f))
+      cloth.fail(cloth.field("spec"), "gives a repeat other than repeat_mm's");
+  }
   read_images(dir, m);
   return m;
 }

@@ -14,7 +14,7 @@
 namespace clothbake::io {
 
 inline constexpr const char* k_material_format_name = "clothbake-material";
-inline constexpr int k_material_format_version = 1;
+inline constexpr int k_material_format_version = 2;
 
 /// What a material folder records besides the table.
 struct MaterialInfo {

@@ -60,6 +60,16 @@ void ClothMaterial::build_mips() {
   }
 }
 
+void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
+  cloth = spec;
+  palette = p;
+  colours = colours_of(p);
+}
+
+YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {
+  return yarn_colours(cloth, p, texels(), layout().levels());
+}
+
 V3f ClothMaterial::material_from_texture(const V3f& d) const {
   return V3f(d.x, d.y, d.z / optics.depth_scale).normalized();
 }
@@ -115,8 +125,10 @@ ClothMaterial::LightNodes ClothMaterial::light_nodes(const Light& light) const {
 // The lookup's three interpolations: light nodes folded into per-component
 // weights first (light_nodes), then levels, texels and view nodes.
 MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels, const V3f& to_eye,
-                                 std::span<const Light> lights) const {
+                                 std::span<const Light> lights, const YarnColours* yarn) const {
   MarchResult out;
+  const bool parts = colour_parts();
+  if (parts && !yarn) yarn = &colours;
   const int n_levels = levels();
   const float level =
       std::clamp(std::log2(std::max(footprint_texels, 1.0f)), 0.0f, float(n_levels - 1));
@@ -166,12 +178,16 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
       const float wm = mi == 0 ? 1.0f - fm : fm;
       if (wm == 0.0f) continue;
       const int side = level_side(m);
-      int xa, ya;
+      // Texel taps counted over the colours' repeat (q repeats; q = 1 for
+      // RGB), the material's texel the tap's modulo its side.
+      const int cols = parts ? int(yarn->warp.levels[size_t(m)].size()) : side;
+      const int rows = parts ? int(yarn->weft.levels[size_t(m)].size()) : side;
+      int ca, ra;
       float fx, fy;
-      const float inv_side = 1.0f / float(side);
-      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, side, inv_side, xa, fx);
-      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, side, inv_side, ya, fy);
-      const int xb = xa + 1 == side ? 0 : xa + 1, yb = ya + 1 == side ? 0 : ya + 1;
+      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, cols, 1.0f / float(cols), ca, fx);
+      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, rows, 1.0f / float(rows), ra, fy);
+      const int cb = ca + 1 == cols ? 0 : ca + 1, rb = ra + 1 == rows ? 0 : ra + 1;
+      const int xa = ca % side, xb = cb % side, ya = ra % side, yb = rb % side;
       const size_t base = size_t(v) * size_t(side) * side;
       const size_t texel[4] = {base + size_t(ya) * side + xa, base + size_t(ya) * side + xb,
                                base + size_t(yb) * side + xa, base + size_t(yb) * side + xb};
@@ -181,7 +197,20 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
         if (wt[t] == 0.0f) continue;
         const V3f* coeff = coefficients[m].data() + texel[t] * r;
         V3f sum(0.0f);
-        for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
+        if (parts) {
+          // Each part's lights, then its colour: S + W * warp(x) + F * weft(y).
+          V3f s(0.0f), wp(0.0f), fp(0.0f);
+          for (int k = 0; k < rk; ++k) {
+            s += weights[k] * coeff[k].x;
+            wp += weights[k] * coeff[k].y;
+            fp += weights[k] * coeff[k].z;
+          }
+          const V3f& cw = yarn->warp.levels[size_t(m)][size_t(t & 1 ? cb : ca)];
+          const V3f& cf = yarn->weft.levels[size_t(m)][size_t(t & 2 ? rb : ra)];
+          sum = s + wp * cw + fp * cf;
+        } else {
+          for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
+        }
         radiance += sum * (w * wt[t]);
         alpha_sum += alpha[m][texel[t]] * (w * wt[t]);
       }

@@ -6,7 +6,9 @@
 /// unit irradiance is stored factorised per view node (a truncated SVD of
 /// that node's texels x RGB by light-node matrix):
 ///   L(x, v, n) = sum_k<rank[v] coefficient_m(x, v, k) [RGB] * light_factor(v, n, k),
-/// and alpha (1 - see-through) per (x, v). Level 0 has R x R texels over the
+/// and alpha (1 - see-through) per (x, v). The coefficients are RGB, or the
+/// colour-free parts (specular, warp diffuse, weft diffuse) that shade()
+/// multiplies by the yarn colours (settings.parts, yarn_colours.h). Level 0 has R x R texels over the
 /// repeat's top face, each the average over its footprint; level m + 1 is the
 /// exact 2 x 2 box average of level m, down to 1 x 1. Since both the
 /// coefficients and alpha are linear in area, a lookup at the footprint's
@@ -26,6 +28,8 @@
 #include "core/march/volume_march.h"
 #include "core/material/material_layout.h"
 #include "core/material/material_settings.h"
+#include "core/material/yarn_colours.h"
+#include "core/weave/cloth_spec.h"
 
 namespace clothbake {
 
@@ -41,6 +45,12 @@ class ClothMaterial {
   /// The volume texture's content hash (VolumeTexture::content_hash): a
   /// scene's cloth must hash the same to use the material.
   uint64_t cloth_hash = 0;
+  /// Colour-free parts only: the colour-free cloth spec baked
+  /// (cloth_colours.h), the colours it was baked with and their strips, which
+  /// shade() uses when it is given none.
+  ClothSpec cloth;
+  YarnPalette palette;
+  YarnColours colours;
   DirectionGrid view_grid, light_grid;
   int max_rank = 0;            ///< coefficient slots per texel (the largest rank)
   std::vector<int> rank;       ///< per view node
@@ -63,6 +73,11 @@ class ClothMaterial {
   void allocate();
   /// Recomputes levels 1.. from level 0 by 2 x 2 box averages.
   void build_mips();
+  bool colour_parts() const { return settings.parts == MaterialParts::SpecularWarpWeft; }
+  /// Sets the colour-free cloth and the colours shade() uses by default.
+  void set_cloth(const ClothSpec& colour_free_spec, const YarnPalette& baked_palette);
+  /// The strips of `p` on this material's cloth (colour-free parts only).
+  YarnColours colours_of(const YarnPalette& p) const;
 
   /// A texture-space direction in the material's frame (unit).
   Imath::V3f material_from_texture(const Imath::V3f& d_texture) const;
@@ -82,9 +97,12 @@ class ClothMaterial {
   /// What the point (x_mm, y_mm) of the repeat's top face shows toward
   /// `to_eye` (material frame) under `lights`, read at the level whose
   /// texels are `footprint_texels` level-0 texels wide (trilinear between
-  /// levels, bilinear between texels, view nodes and light nodes).
+  /// levels, bilinear between texels, view nodes and light nodes). A
+  /// colour-free material takes its yarn colours from `yarn` (null: the
+  /// colours it was baked with), each texel tap with its own column's and
+  /// row's colour; x_mm and y_mm may then span the colours' repeat.
   MarchResult shade(float x_mm, float y_mm, float footprint_texels, const Imath::V3f& to_eye,
-                    std::span<const Light> lights) const;
+                    std::span<const Light> lights, const YarnColours* yarn = nullptr) const;
 
   /// One light's light nodes and their weights (4 bilinear, or 16
   /// Catmull-Rom), the same for every view node.

@@ -152,6 +152,7 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
   in.shading = o.shading;
   in.isotropic_albedo = o.isotropic_albedo;
   in.roulette = o.light_roulette;
+  in.colour_parts = material.colour_parts();
   return in;
 }
 
@@ -251,6 +252,9 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   check_material_settings(settings);
   if (!(optics.depth_scale > 0.0f) || !std::isfinite(optics.depth_scale))
     throw InputError("depth_scale", "must be positive and finite");
+  if (settings.parts == MaterialParts::SpecularWarpWeft && optics.shading != ShadingMode::Fiber)
+    throw InputError("parts", "colour-free parts need fibre shading (isotropic shading has one "
+                              "albedo and no yarn colours)");
   ClothMaterial material = unbaked_material(volume, optics, settings);
   const int n_views = material.view_count(), n_lights = material.light_count();
 

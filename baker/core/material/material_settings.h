@@ -23,6 +23,11 @@ inline constexpr int k_min_field_supersample = 1, k_max_field_supersample = 4;
 /// Tangent nodes per side of the fibre table (0 turns the table off).
 inline constexpr int k_min_fiber_tangent_nodes = 2, k_max_fiber_tangent_nodes = 256;
 
+/// What a coefficient's three channels hold (docs/material-format.md):
+/// linear RGB, or the colour-free parts, specular and the diffuse of each yarn
+/// family, to be multiplied by the yarn colours when the material renders.
+enum class MaterialParts { Rgb, SpecularWarpWeft };
+
 /// The sampling and compression of the table.
 struct MaterialSettings {
   int texels = 32;            ///< R: texels per repeat side at level 0, a power of 2
@@ -39,6 +44,9 @@ struct MaterialSettings {
   /// cell and light node.
   int fiber_tangent_nodes = 32;
   uint64_t seed = 1;
+  /// Colour-free parts need fibre shading and a volume made colour-free
+  /// (core/weave/cloth_colours.h); the command chooses.
+  MaterialParts parts = MaterialParts::Rgb;
 };
 
 /// Everything besides the volume texture and the fibre model that changes

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/util/error.h"
+#include "core/weave/cloth_colours.h"
 #include "core/util/hex.h"
 
 namespace clothbake {
@@ -57,11 +58,26 @@ void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial&
   const MaterialOptics have = object_optics(prepared, o);
   const MaterialOptics& want = material.optics;
   const std::string obj = "objects[" + std::to_string(o) + "]";
-  const uint64_t hash = prepared.volume(o).content_hash();
-  if (hash != material.cloth_hash)
-    throw InputError(obj + ".cloth", "is not the material's cloth: its volume texture hashes to " +
-                                         hex16(hash) + ", the material's to " +
-                                         hex16(material.cloth_hash));
+  if (material.colour_parts()) {
+    // Colour-free: the cloth may differ in its yarn colours and nothing else.
+    const ClothObject& object = prepared.scene().objects[size_t(o)];
+    if (object.volume)
+      throw InputError(obj + ".volume",
+                       "is a VDB volume, whose colours are in its cells; the material is "
+                       "colour-free, baked from a cloth spec: bake a material from this scene");
+    const ClothDifference d = first_difference(colour_free(object.cloth), material.cloth);
+    if (!d.field.empty())
+      throw InputError(obj + ".cloth." + d.field,
+                       "is " + d.a + ", the material's cloth has " + d.b +
+                           " (once both are made colour-free): only the yarn colours may differ "
+                           "from the material's; bake a material from this scene");
+  } else {
+    const uint64_t hash = prepared.volume(o).content_hash();
+    if (hash != material.cloth_hash)
+      throw InputError(obj + ".cloth",
+                       "is not the material's cloth: its volume texture hashes to " + hex16(hash) +
+                           ", the material's to " + hex16(material.cloth_hash));
+  }
   const float rel = std::fabs(have.depth_scale / want.depth_scale - 1.0f);
   if (!(rel <= k_depth_scale_tolerance))
     throw InputError(obj + ".thickness_world",
@@ -90,8 +106,13 @@ SurfaceShader material_shader(const ClothScene& prepared,
   const float angle = pixel_angle(scene.camera);
   const V3f eye = scene.camera.position_world;
   const float stratum = 1.0f / std::sqrt(float(std::max(scene.settings.spp, 1)));
-  return [&prepared, &scene, materials, angle, eye, settings, stratum](int o, int q, float s, float t,
-                                                              const V3f& ray_dir_world, Rng& rng) {
+  // Colour-free materials render in each object's own yarn colours.
+  auto colours = std::make_shared<std::vector<YarnColours>>(materials.size());
+  for (size_t o = 0; o < materials.size(); ++o)
+    if (materials[o] && materials[o]->colour_parts())
+      (*colours)[o] = materials[o]->colours_of(palette_of(scene.objects[o].cloth));
+  return [&prepared, &scene, materials, colours, angle, eye, settings, stratum](
+             int o, int q, float s, float t, const V3f& ray_dir_world, Rng& rng) {
     const ClothMaterial& mat = *materials[size_t(o)];
     const QuadPatch& patch = prepared.patch(o, q);
     const SurfaceFrame frame = patch.frame(s, t);
@@ -126,7 +147,8 @@ SurfaceShader material_shader(const ClothScene& prepared,
     }
     const V3f to_eye = mat.material_from_texture(frame.texture_from_world(-ray_dir_world));
     return mat.shade(top.x, top.y, footprint_texels, to_eye,
-                     std::span<const ClothMaterial::Light>(lights, n));
+                     std::span<const ClothMaterial::Light>(lights, n),
+                     mat.colour_parts() ? &(*colours)[size_t(o)] : nullptr);
   };
 }
 

@@ -2,28 +2,57 @@
 
 #include "core/material/material_shader.h"
 #include "core/texture/volume_generator.h"
+#include "core/weave/cloth_colours.h"
 
 namespace clothbake {
 
-MaterialSource material_source(const ClothScene& prepared, int o) {
+std::string colour_parts_refusal(ShadingMode shading, bool from_vdb) {
+  if (shading != ShadingMode::Fiber)
+    return "isotropic shading has one albedo and no yarn colours";
+  if (from_vdb) return "a volume read from a VDB file has its colours in its cells";
+  return {};
+}
+
+namespace {
+/// The colour-free volume of `spec` into `src`, with its spec and palette.
+void make_colour_free(const ClothSpec& spec, uint64_t budget, MaterialSource& src) {
+  src.parts = MaterialParts::SpecularWarpWeft;
+  src.cloth = colour_free(spec);
+  src.palette = palette_of(spec);
+  src.owned_volume = std::make_shared<const VolumeTexture>(generate_volume(src.cloth, budget));
+  src.volume = src.owned_volume.get();
+}
+}  // namespace
+
+MaterialSource material_source(const ClothScene& prepared, int o, MaterialParts parts,
+                               uint64_t budget) {
   MaterialSource src;
   const Scene& scene = prepared.scene();
-  const ShadingSpec& shading = scene.objects[size_t(o)].cloth.shading;
+  const ClothObject& obj = scene.objects[size_t(o)];
+  const ShadingSpec& shading = obj.cloth.shading;
   const RenderSettings& rs = scene.settings;
-  src.volume = &prepared.volume(o);
   src.optics = object_optics(prepared, o);
   src.shader = make_object_fiber_shader(rs.fiber_model, shading.fiber_aspect, shading.exponent,
                                         rs.fiber_samples, rs.seed, uint64_t(o));
+  if (parts == MaterialParts::SpecularWarpWeft &&
+      colour_parts_refusal(src.optics.shading, obj.volume != nullptr).empty())
+    make_colour_free(obj.cloth, budget, src);
+  else
+    src.volume = &prepared.volume(o);
   return src;
 }
 
-MaterialSource material_source(const ClothSpec& spec, uint64_t memory_budget_bytes) {
+MaterialSource material_source(const ClothSpec& spec, MaterialParts parts, uint64_t budget) {
   MaterialSource src;
-  src.owned_volume = std::make_shared<const VolumeTexture>(generate_volume(spec, memory_budget_bytes));
-  src.volume = src.owned_volume.get();
   const MaterialOptics& o = src.optics;
   src.shader = make_object_fiber_shader(o.fiber_model, spec.shading.fiber_aspect,
                                         spec.shading.exponent, o.fiber_samples, o.fiber_seed, 0);
+  if (parts == MaterialParts::SpecularWarpWeft) {
+    make_colour_free(spec, budget, src);
+  } else {
+    src.owned_volume = std::make_shared<const VolumeTexture>(generate_volume(spec, budget));
+    src.volume = src.owned_volume.get();
+  }
   return src;
 }
 

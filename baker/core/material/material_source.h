@@ -9,7 +9,9 @@
 #include "core/material/material_settings.h"
 #include "core/scene/cloth_scene.h"
 #include "core/texture/volume_texture.h"
+#include "core/material/yarn_colours.h"
 #include "core/weave/cloth_spec.h"
+#include <string>
 
 namespace clothbake {
 
@@ -18,16 +20,29 @@ struct MaterialSource {
   std::shared_ptr<const VolumeTexture> owned_volume;  ///< a spec's; a scene's lives in the scene
   std::unique_ptr<FiberShader> shader;
   MaterialOptics optics;
+  /// What the table's channels hold: colour-free parts when asked for and
+  /// possible (fibre shading, a cloth generated from a spec), else RGB.
+  MaterialParts parts = MaterialParts::Rgb;
+  ClothSpec cloth;      ///< colour-free parts: the colour-free spec `volume` was generated from
+  YarnPalette palette;  ///< colour-free parts: the cloth's own colours
 };
 
+/// Whether a bake asked for colour-free parts gets them, and if not why
+/// (empty when it does).
+std::string colour_parts_refusal(ShadingMode shading, bool from_vdb);
+
 /// Object `object` of the prepared scene (which must outlive the source):
-/// its volume, the fibre shader ClothScene builds for it and its optics
-/// (object_optics, material_shader.h).
-MaterialSource material_source(const ClothScene& prepared, int object);
+/// its volume (or, for colour-free parts, its cloth made colour-free), the
+/// fibre shader ClothScene builds for it and its optics (object_optics,
+/// material_shader.h). `parts` is what is asked; RGB when colour-free parts
+/// are not possible (source.parts says what was chosen).
+MaterialSource material_source(const ClothScene& prepared, int object, MaterialParts parts,
+                               uint64_t memory_budget_bytes);
 
 /// A cloth spec alone: its generated volume, the default optics (depth scale
 /// 1) and the fibre shader a one-object scene with the default render seed
 /// would build.
-MaterialSource material_source(const ClothSpec& spec, uint64_t memory_budget_bytes);
+MaterialSource material_source(const ClothSpec& spec, MaterialParts parts,
+                               uint64_t memory_budget_bytes);
 
 }  // namespace clothbake

@@ -5,6 +5,7 @@
 
 #include "core/bake/direction_grid.h"
 #include "core/util/random.h"
+#include "core/weave/cloth_colours.h"
 
 namespace clothbake {
 
@@ -60,6 +61,14 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
   const size_t n_lights = in.to_light_local.size();
   const V3f tangent_local =
       V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
+  // RGB, or the colour-free parts: the specular response, then the diffuse
+  // one in the slot of the cell's yarn family.
+  const float diffuse_part = cell.diffuse.x * (1.0f / k_neutral_albedo);
+  const V3f diffuse_rgb =
+      !in.colour_parts ? cell.diffuse
+                       : V3f(0.0f, cell.family == YarnFamily::Warp ? diffuse_part : 0.0f,
+                             cell.family == YarnFamily::Weft ? diffuse_part : 0.0f);
+  const V3f specular_rgb = !in.colour_parts ? V3f(cell.specular) : V3f(cell.specular, 0.0f, 0.0f);
   if (in.shading == ShadingMode::Isotropic) {
     for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
   } else if (in.fiber_table) {
@@ -67,7 +76,7 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
     scratch.specular.resize(n_lights);
     in.fiber_table->eval(tangent_local, scratch.diffuse.data(), scratch.specular.data());
     for (size_t l = 0; l < n_lights; ++l)
-      reflect[l] = cell.diffuse * scratch.diffuse[l] + V3f(cell.specular * scratch.specular[l]);
+      reflect[l] = diffuse_rgb * scratch.diffuse[l] + specular_rgb * scratch.specular[l];
   } else if (cacheable) {
     const size_t c = size_t(&cell - cells);
     float* r = scratch.response.data() + c * n_lights * 2;
@@ -81,12 +90,12 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
       counts.fiber_evaluations += n_lights;
     }
     for (size_t l = 0; l < n_lights; ++l)
-      reflect[l] = cell.diffuse * r[2 * l] + V3f(cell.specular * r[2 * l + 1]);
+      reflect[l] = diffuse_rgb * r[2 * l] + specular_rgb * r[2 * l + 1];
   } else {
     for (size_t l = 0; l < n_lights; ++l) {
       const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l],
                                               in.to_eye_local, hash_key(in.seed, uint64_t(shaded)));
-      reflect[l] = cell.diffuse * f.diffuse + V3f(cell.specular * f.specular);
+      reflect[l] = diffuse_rgb * f.diffuse + specular_rgb * f.specular;
     }
     counts.fiber_evaluations += n_lights;
   }

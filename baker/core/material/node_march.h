@@ -59,6 +59,10 @@ struct NodeMarchInput : SampleMarchInput {
   float depth_scale = 1.0f;  ///< carries fibre tangents to the frame: (t.x, t.y, t.z / depth_scale)
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
+  /// Colour-free parts (fibre shading, a volume made colour-free): each
+  /// cell's response as (specular, warp diffuse, weft diffuse) instead of RGB,
+  /// the diffuse divided by k_neutral_albedo (cloth_colours.h).
+  bool colour_parts = false;
 };
 
 /// Work space a thread reuses between marches (no allocation per ray).

@@ -8,6 +8,7 @@
 #include "core/march/cell_walk.h"
 #include "core/texture/volume_generator.h"
 #include "core/util/stopwatch.h"
+#include "core/weave/cloth_colours.h"
 
 namespace clothbake {
 
@@ -43,11 +44,16 @@ ClothScene::ClothScene(const Scene& scene, uint64_t memory_budget_bytes,
     obj.shader = make_object_fiber_shader(rs.fiber_model, src.cloth.shading.fiber_aspect,
                                           src.cloth.shading.exponent, rs.fiber_samples, rs.seed,
                                           o);
+    // repeats_per_uv counts repeats of the weave, not of its colour sequence:
+    // colours never change the cloth's size (a stripe of 3 ends on a plain
+    // weave keeps the threads where the plain weave has them).
     const V3f size = obj.volume->size_mm();
+    const Imath::V2f repeat_mm =
+        src.volume ? Imath::V2f(size.x, size.y) : weave_repeat_mm(src.cloth);
     obj.patches.reserve(src.mesh.quads.size());
     for (size_t q = 0; q < src.mesh.quads.size(); ++q)
-      obj.patches.emplace_back(src.mesh, int(q), src.repeats_per_uv, Imath::V2f(size.x, size.y),
-                               size.z, src.thickness_world);
+      obj.patches.emplace_back(src.mesh, int(q), src.repeats_per_uv, repeat_mm, size.z,
+                               src.thickness_world);
   }
   m_setup_seconds = seconds_since(t0);
 }

@@ -8,9 +8,7 @@
 namespace clothbake {
 
 Image crossing_tops(const VolumeTexture& volume, const ClothSpec& spec) {
-  const WeaveDraft draft = !spec.draft.empty() ? WeaveDraft(spec.draft)
-                           : spec.pattern == k_uniform_pattern ? WeaveDraft({{1, 0}, {0, 1}})
-                                                               : WeaveDraft::named(spec.pattern);
+  const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends(spec.warp, draft.ends(), "warp");
   const ThreadLayout picks(spec.weft, draft.picks(), "weft");
   const Imath::V3f cell = volume.cell_size_mm();

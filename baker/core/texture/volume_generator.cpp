@@ -28,10 +28,6 @@ bool is_uniform(const ClothSpec& spec) {
   return spec.draft.empty() && spec.pattern == k_uniform_pattern;
 }
 
-WeaveDraft draft_of(const ClothSpec& spec) {
-  if (is_uniform(spec)) return WeaveDraft({{1, 0}, {0, 1}});  // only sizes the repeat
-  return spec.draft.empty() ? WeaveDraft::named(spec.pattern) : WeaveDraft(spec.draft);
-}
 
 float smoothstep01(float t) {
   t = std::clamp(t, 0.0f, 1.0f);

@@ -99,12 +99,16 @@ void validate(const ClothSpec& spec) {
           "must be in [1, 8], got " + std::to_string(r.supersample));
 }
 
+WeaveDraft draft_of(const ClothSpec& spec) {
+  if (!spec.draft.empty()) return WeaveDraft(spec.draft);
+  if (spec.pattern == k_uniform_pattern) return WeaveDraft({{1, 0}, {0, 1}});
+  return WeaveDraft::named(spec.pattern);
+}
+
 ResolutionSpec resolved_resolution(const ClothSpec& spec) {
   ResolutionSpec r = spec.resolution;
   const bool named = spec.draft.empty();
-  const WeaveDraft draft = !named                               ? WeaveDraft(spec.draft)
-                           : spec.pattern == k_uniform_pattern ? WeaveDraft({{1, 0}, {0, 1}})
-                                                               : WeaveDraft::named(spec.pattern);
+  const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
   // A named pattern keeps its 64 cells per repeat of the pattern (the colour
   // sequence may span several); a draft gets cells per thread, at least 64.

@@ -10,6 +10,8 @@
 
 #include <Imath/ImathVec.h>
 
+#include "core/weave/weave.h"
+
 namespace clothbake {
 
 /// One yarn family (warp or weft).
@@ -85,6 +87,10 @@ struct ClothSpec {
 
 /// Checks ranges and consistency; throws InputError naming the field.
 void validate(const ClothSpec& spec);
+
+/// The draft the spec weaves: `draft`, else the named pattern (the uniform
+/// slab sized as a plain weave's 2 x 2 repeat).
+WeaveDraft draft_of(const ClothSpec& spec);
 
 /// The resolution with the automatic (0) cells_x / cells_y filled in.
 ResolutionSpec resolved_resolution(const ClothSpec& spec);

@@ -5,13 +5,6 @@
 
 namespace clothbake {
 
-namespace {
-WeaveDraft draft_of(const ClothSpec& spec) {
-  if (!spec.draft.empty()) return WeaveDraft(spec.draft);
-  if (spec.pattern == k_uniform_pattern) return WeaveDraft({{1, 0}, {0, 1}});
-  return WeaveDraft::named(spec.pattern);
-}
-}  // namespace
 
 void repeat_threads(const ClothSpec& spec, int& ends, int& picks) {
   const WeaveDraft draft = draft_of(spec);

@@ -1,0 +1,130 @@
+#include "core/weave/cloth_colours.h"
+
+#include <cmath>
+#include <sstream>
+#include <tuple>
+
+#include "core/weave/thread_layout.h"
+
+namespace clothbake {
+
+namespace {
+/// Cells over the colour-free repeat with the coloured cloth's cell size.
+int scaled_cells(int cells_full, int threads_full, int threads_free) {
+  const long long exact = (long long)cells_full * threads_free;
+  if (exact % threads_full == 0) return int(exact / threads_full);
+  return std::max(1, int(std::lround(double(exact) / double(threads_full))));
+}
+
+std::string text(float v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+std::string text(const Imath::V3f& v) { return "[" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + "]"; }
+std::string text(const std::vector<float>& v) {
+  std::string s = "[";
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + text(v[i]);
+  return s + "]";
+}
+std::string text(const std::vector<std::vector<int>>& d) {
+  return std::to_string(d.size()) + " x " + std::to_string(d.empty() ? 0 : d[0].size()) +
+         " draft";
+}
+}  // namespace
+
+ClothSpec colour_free(const ClothSpec& spec) {
+  const ResolutionSpec full = resolved_resolution(spec);
+  const WeaveDraft draft = draft_of(spec);
+  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  ClothSpec out = spec;
+  for (YarnSpec* y : {&out.warp, &out.weft}) {
+    y->color = Imath::V3f(k_neutral_albedo);
+    y->colors.clear();
+  }
+  // The named pattern becomes its draft, so that a scene naming the pattern
+  // and one giving its draft compare equal.
+  if (out.draft.empty() && out.pattern != k_uniform_pattern) {
+    out.draft.assign(size_t(draft.picks()), std::vector<int>(size_t(draft.ends()), 0));
+    for (int r = 0; r < draft.picks(); ++r)
+      for (int c = 0; c < draft.ends(); ++c) out.draft[r][c] = draft.warp_up(r, c) ? 1 : 0;
+    out.pattern = "plain";
+  }
+  out.draft_source.clear();
+  out.draft_program.clear();
+  const ThreadLayout free_ends(out.warp, draft.ends(), "warp");
+  const ThreadLayout free_picks(out.weft, draft.picks(), "weft");
+  out.resolution.cells_x = scaled_cells(full.cells_x, ends.count(), free_ends.count());
+  out.resolution.cells_y = scaled_cells(full.cells_y, picks.count(), free_picks.count());
+  return out;
+}
+
+Imath::V2f weave_repeat_mm(const ClothSpec& spec) {
+  const ClothSpec free = colour_free(spec);
+  const WeaveDraft draft = draft_of(free);
+  return Imath::V2f(ThreadLayout(free.warp, draft.ends(), "warp").repeat_mm(),
+                    ThreadLayout(free.weft, draft.picks(), "weft").repeat_mm());
+}
+
+ClothDifference first_difference(const ClothSpec& a, const ClothSpec& b) {
+  ClothDifference d;
+  auto check = [&](const char* field, const auto& x, const auto& y) {
+    if (!d.field.empty() || x == y) return;
+    d.field = field;
+    d.a = text(x);
+    d.b = text(y);
+  };
+  if (a.draft.empty() != b.draft.empty() || (a.draft.empty() && a.pattern != b.pattern)) {
+    d.field = "weave.pattern";
+    d.a = a.draft.empty() ? a.pattern : "a draft";
+    d.b = b.draft.empty() ? b.pattern : "a draft";
+  }
+  check("weave.draft", a.draft, b.draft);
+  for (const auto& [name, ya, yb] : {std::tuple{"warp", &a.warp, &b.warp},
+                                     std::tuple{"weft", &a.weft, &b.weft}}) {
+    const std::string n = name;
+    auto f = [&](const char* key, const auto& x, const auto& y) {
+      if (!d.field.empty() || x == y) return;
+      d.field = n + "." + key;
+      d.a = text(x);
+      d.b = text(y);
+    };
+    f("spacing_mm", ya->spacing_mm, yb->spacing_mm);
+    f("width_mm", ya->width_mm, yb->width_mm);
+    f("thickness_mm", ya->thickness_mm, yb->thickness_mm);
+    f("twist_deg", ya->twist_deg, yb->twist_deg);
+    f("ply_pitch_mm", ya->ply_pitch_mm, yb->ply_pitch_mm);
+    f("spacings_mm", ya->spacings_mm, yb->spacings_mm);
+    f("widths_mm", ya->widths_mm, yb->widths_mm);
+    f("color", ya->color, yb->color);
+  }
+  check("crimp", a.crimp, b.crimp);
+  check("angle_spread_deg", a.angle_spread_deg, b.angle_spread_deg);
+  check("density.core", a.density.core, b.density.core);
+  check("density.edge", a.density.edge, b.density.edge);
+  check("density.falloff", a.density.falloff, b.density.falloff);
+  check("density.top_factor", a.density.top_factor, b.density.top_factor);
+  check("density.noise_amplitude", a.density.noise_amplitude, b.density.noise_amplitude);
+  check("density.noise_scale_mm", a.density.noise_scale_mm, b.density.noise_scale_mm);
+  check("shading.specular_top", a.shading.specular_top, b.shading.specular_top);
+  check("shading.specular_bottom", a.shading.specular_bottom, b.shading.specular_bottom);
+  check("shading.diffuse_top", a.shading.diffuse_top, b.shading.diffuse_top);
+  check("shading.diffuse_bottom", a.shading.diffuse_bottom, b.shading.diffuse_bottom);
+  check("shading.exponent", a.shading.exponent, b.shading.exponent);
+  check("shading.variation", a.shading.variation, b.shading.variation);
+  check("shading.fiber_aspect", a.shading.fiber_aspect, b.shading.fiber_aspect);
+  const ResolutionSpec ra = resolved_resolution(a), rb = resolved_resolution(b);
+  check("resolution.cells_x", float(ra.cells_x), float(rb.cells_x));
+  check("resolution.cells_y", float(ra.cells_y), float(rb.cells_y));
+  check("resolution.layers", float(ra.layers), float(rb.layers));
+  check("resolution.supersample", float(ra.supersample), float(rb.supersample));
+  if (d.field.empty() && a.seed != b.seed) {
+    d.field = "seed";
+    d.a = std::to_string(a.seed);
+    d.b = std::to_string(b.seed);
+  }
+  return d;
+}
+
+}  // namespace clothbake
