@@ -8,6 +8,7 @@
 
 #include "core/texture/volume_generator.h"
 #include "core/util/error.h"
+#include "core/weave/cloth_colours.h"
 
 namespace clothbake::io {
 namespace {
@@ -84,6 +85,52 @@ TEST(MaterialIo, RoundTrip) {
                   1e-3f * (m.coefficients[l][i].length() + 1e-4f));
     for (size_t i = 0; i < m.alpha[l].size(); ++i) EXPECT_NEAR(r.alpha[l][i], m.alpha[l][i], 1e-3f);
   }
+}
+
+// A colour-free material (format version 2): its parts, its colour-free
+// cloth spec (per-thread spacings included), its colours with a per-thread
+// sequence, and the channel names; a version-1 manifest reads as RGB.
+TEST(MaterialIo, ColourFreePartsRoundTrip) {
+  TempDir tmp;
+  ClothSpec spec;
+  spec.resolution = {16, 16, 8, 1};
+  spec.warp.colors = {V3f(0.5f, 0.1f, 0.1f), V3f(0.1f, 0.4f, 0.1f), V3f(0.2f, 0.2f, 0.4f)};
+  spec.weft.spacings_mm = {0.5f, 0.55f};
+  const ClothSpec free = colour_free(spec);
+  const VolumeTexture volume = generate_volume(free, uint64_t(1) << 32);
+  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
+  MaterialSettings s;
+  s.texels = 4;
+  s.directions = 2;
+  s.light_directions = 2;
+  s.spp = 1;
+  s.field_supersample = 1;
+  s.parts = MaterialParts::SpecularWarpWeft;
+  ClothMaterial m = bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32);
+  m.set_cloth(free, palette_of(spec));
+  const std::string dir = (tmp.path / "mat").string();
+  write_material(dir, m, small_info());
+  MaterialInfo info;
+  const ClothMaterial r = read_material(dir, info);
+  EXPECT_TRUE(r.colour_parts());
+  EXPECT_EQ(first_difference(r.cloth, m.cloth).field, "");
+  EXPECT_EQ(r.cloth.weft.spacings_mm, free.weft.spacings_mm);
+  EXPECT_EQ(r.palette, m.palette);
+  EXPECT_EQ(r.colours.warp.repeats, 3);
+  EXPECT_EQ(r.colours.warp.levels[0], m.colours.warp.levels[0]);
+  std::ifstream in(fs::path(dir) / "manifest.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["version"], 2);
+  EXPECT_EQ(j["parts"], "specular-warp-weft");
+  EXPECT_EQ(j["cloth"]["threads"]["weft"]["centres_mm"].size(), 2u);
+  // Version 1 (no parts): the same folder's manifest reads as RGB, and then
+  // its images lack the R, G, B channels: refused, naming the file.
+  j["version"] = 1;
+  j.erase("parts");
+  std::ofstream(fs::path(dir) / "manifest.json") << j.dump();
+  const std::string err = error_of(dir);
+  EXPECT_NE(err.find("level_0.exr"), std::string::npos) << err;
+  EXPECT_NE(err.find("k0000.R"), std::string::npos) << err;
 }
 
 TEST(MaterialIo, SameBytesTwice) {

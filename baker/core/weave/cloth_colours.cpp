@@ -1,7 +1,7 @@
 #include "core/weave/cloth_colours.h"
 
 #include <cmath>
-#include <sstream>
+#include <charconv>
 #include <tuple>
 
 #include "core/weave/thread_layout.h"
@@ -16,11 +16,10 @@ int scaled_cells(int cells_full, int threads_full, int threads_free) {
   return std::max(1, int(std::lround(double(exact) / double(threads_full))));
 }
 
-std::string text(float v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
+std::string text(float v) {  // shortest text that reads back as v
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 std::string text(const Imath::V3f& v) { return "[" + text(v.x) + ", " + text(v.y) + ", " + text(v.z) + "]"; }
 std::string text(const std::vector<float>& v) {

@@ -110,15 +110,27 @@ ResolutionSpec resolved_resolution(const ClothSpec& spec) {
   const bool named = spec.draft.empty();
   const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
-  // A named pattern keeps its 64 cells per repeat of the pattern (the colour
-  // sequence may span several); a draft gets cells per thread, at least 64.
-  auto automatic = [&](int threads, int draft_threads) {
-    const long long n = named ? 64LL * (threads / draft_threads)
-                              : std::max(64LL, (long long)r.cells_per_thread * threads);
-    return int(std::min<long long>(n, 1 << 30));
+  // The weave's repeat without its colours: the cells are counted over it,
+  // and a colour sequence that spans several of them repeats them, so that
+  // colours never change the cells (a colour-free material, cloth_colours.h).
+  YarnSpec warp = spec.warp, weft = spec.weft;
+  warp.colors.clear();
+  weft.colors.clear();
+  const ThreadLayout weave_ends(warp, draft.ends(), "warp"), weave_picks(weft, draft.picks(), "weft");
+  // A named pattern has 64 cells per repeat of the pattern; a draft gets
+  // cells per thread, at least 64 per repeat of the weave.
+  auto per_weave = [&](int weave_threads, int draft_threads, int given) -> long long {
+    if (given > 0) return given;
+    return named ? 64LL * (weave_threads / draft_threads)
+                 : std::max(64LL, (long long)r.cells_per_thread * weave_threads);
   };
-  if (r.cells_x == 0) r.cells_x = automatic(ends.count(), draft.ends());
-  if (r.cells_y == 0) r.cells_y = automatic(picks.count(), draft.picks());
+  auto total = [](long long per_weave_repeat, int threads, int weave_threads) {
+    return int(std::min<long long>(per_weave_repeat * (threads / weave_threads), 1 << 30));
+  };
+  r.cells_x = total(per_weave(weave_ends.count(), draft.ends(), r.cells_x), ends.count(),
+                    weave_ends.count());
+  r.cells_y = total(per_weave(weave_picks.count(), draft.picks(), r.cells_y), picks.count(),
+                    weave_picks.count());
   return r;
 }
 
