@@ -121,7 +121,9 @@ void run_material(const MaterialArgs& args) {
   MaterialBakeStats stats;
   const auto t0 = std::chrono::steady_clock::now();
   ClothMaterial material = bake_material(*src.volume, *src.shader, src.optics, settings, budget,
-                                         [&](double f) { bar.update(f); }, &stats);
+                                         [&](double f) { bar.update(f); }, &stats,
+                                         src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth
+                                                                                      : nullptr);
   if (material.colour_parts()) material.set_cloth(src.cloth, src.palette);
   bar.finish();
   const double seconds = seconds_since(t0);

@@ -38,10 +38,10 @@ std::string component_name(int k) {
 /// or its colour-free parts.
 std::vector<std::string> level_channels(int max_rank, MaterialParts parts) {
   std::vector<std::string> names{"A"};
-  const bool rgb = parts == MaterialParts::Rgb;
+  const std::vector<const char*> rgb{"R", "G", "B"};
+  const std::vector<const char*> free{"specular", "warp", "weft", "warp_next", "weft_next"};
   for (int k = 0; k < max_rank; ++k)
-    for (const char* c : rgb ? std::array<const char*, 3>{"R", "G", "B"}
-                             : std::array<const char*, 3>{"specular", "warp", "weft"})
+    for (const char* c : parts == MaterialParts::Rgb ? rgb : free)
       names.push_back(component_name(k) + "." + c);
   return names;
 }
@@ -134,7 +134,8 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
 /// Level `l`'s coefficient atlas, as written: alpha, then RGB per component.
 std::vector<Imath::half> level_pixels(const ClothMaterial& m, int l) {
   const MaterialLayout layout = m.layout();
-  const size_t nc = 1 + 3 * size_t(m.max_rank);
+  const size_t ch = size_t(layout.channels);
+  const size_t nc = 1 + ch * size_t(m.max_rank);
   const int side = layout.level_side(l);
   const size_t texels = layout.level_texels(l);
   std::vector<Imath::half> pixels(size_t(layout.atlas_width(l)) * layout.atlas_height(l) * nc);
@@ -146,7 +147,11 @@ std::vector<Imath::half> level_pixels(const ClothMaterial& m, int l) {
         out[0] = m.alpha[l][size_t(v) * texels + t];
         const V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
         for (int k = 0; k < m.max_rank; ++k)
-          out[1 + 3 * k] = c[k].x, out[2 + 3 * k] = c[k].y, out[3 + 3 * k] = c[k].z;
+          out[1 + ch * k] = c[k].x, out[2 + ch * k] = c[k].y, out[3 + ch * k] = c[k].z;
+        if (ch == 5) {
+          const Imath::V2f* e = &m.coefficients_next[l][(size_t(v) * texels + t) * m.max_rank];
+          for (int k = 0; k < m.max_rank; ++k) out[4 + ch * k] = e[k].x, out[5 + ch * k] = e[k].y;
+        }
       }
   return pixels;
 }
@@ -274,7 +279,13 @@ void read_images(const std::string& dir, ClothMaterial& m) {
           const Imath::half* in = &pixels[layout.atlas_pixel(v, x, y, l) * nc];
           m.alpha[l][size_t(v) * texels + t] = in[0];
           V3f* c = &m.coefficients[l][(size_t(v) * texels + t) * m.max_rank];
-          for (int k = 0; k < m.max_rank; ++k) c[k] = V3f(in[1 + 3 * k], in[2 + 3 * k], in[3 + 3 * k]);
+          const size_t ch = size_t(layout.channels);
+          for (int k = 0; k < m.max_rank; ++k)
+            c[k] = V3f(in[1 + ch * k], in[2 + ch * k], in[3 + ch * k]);
+          if (ch == 5) {
+            Imath::V2f* e = &m.coefficients_next[l][(size_t(v) * texels + t) * m.max_rank];
+            for (int k = 0; k < m.max_rank; ++k) e[k] = Imath::V2f(in[4 + ch * k], in[5 + ch * k]);
+          }
         }
   }
   const std::vector<std::string> lc = light_channels(m.max_rank);

@@ -24,11 +24,13 @@ void catmull_rom_weights(float t, float* w) {
 void ClothMaterial::allocate() {
   const int n_levels = layout().levels();
   coefficients.assign(size_t(n_levels), {});
+  coefficients_next.assign(colour_parts() ? size_t(n_levels) : 0, {});
   alpha.assign(size_t(n_levels), {});
   const size_t views = size_t(view_count());
   for (int m = 0; m < n_levels; ++m) {
     const size_t texels = size_t(level_side(m)) * level_side(m);
     coefficients[m].assign(views * texels * size_t(max_rank), V3f(0.0f));
+    if (colour_parts()) coefficients_next[m].assign(views * texels * size_t(max_rank), Imath::V2f(0.0f));
     alpha[m].assign(views * texels, 0.0f);
   }
   light_factors.assign(views * size_t(light_count()) * size_t(max_rank), 0.0f);
@@ -55,6 +57,11 @@ void ClothMaterial::build_mips() {
             const V3f* c = coefficients[m - 1].data() + v * n_fine * r + k;
             coefficients[m][(v * n + t) * r + k] =
                 0.25f * ((c[f[0] * r] + c[f[1] * r]) + (c[f[2] * r] + c[f[3] * r]));
+            if (colour_parts()) {
+              const Imath::V2f* e = coefficients_next[m - 1].data() + v * n_fine * r + k;
+              coefficients_next[m][(v * n + t) * r + k] =
+                  0.25f * ((e[f[0] * r] + e[f[1] * r]) + (e[f[2] * r] + e[f[3] * r]));
+            }
           }
         }
   }
@@ -64,6 +71,9 @@ void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
   cloth = spec;
   palette = p;
   colours = colours_of(p);
+  const WeaveDraft draft = draft_of(spec);
+  warp_threads = std::make_shared<const ThreadLayout>(spec.warp, draft.ends(), "warp");
+  weft_threads = std::make_shared<const ThreadLayout>(spec.weft, draft.picks(), "weft");
 }
 
 YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {
@@ -158,6 +168,13 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     if (wv[c] == 0.0f) continue;
     const int v = views[c];
     const int rk = rank[v];
+    // The side the view node's ray runs toward across the threads: its
+    // neighbours' colours are those of the owner + 1 or - 1.
+    const V3f ray = parts ? -view_grid.bake_direction(v) : V3f(0.0f);
+    const std::vector<std::vector<V3f>>* warp_next =
+        parts ? (ray.x >= 0.0f ? &yarn->warp.plus : &yarn->warp.minus) : nullptr;
+    const std::vector<std::vector<V3f>>* weft_next =
+        parts ? (ray.y >= 0.0f ? &yarn->weft.plus : &yarn->weft.minus) : nullptr;
     std::fill(weights, weights + rk, V3f(0.0f));
     for (size_t l = 0; l < n_lights; ++l) {
       // The light's nodes folded into one scalar per component first (a
@@ -199,15 +216,18 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
         V3f sum(0.0f);
         if (parts) {
           // Each part's lights, then its colour: S + W * warp(x) + F * weft(y).
-          V3f s(0.0f), wp(0.0f), fp(0.0f);
+          const Imath::V2f* next = coefficients_next[m].data() + texel[t] * r;
+          V3f s(0.0f), wp(0.0f), fp(0.0f), wn(0.0f), fn(0.0f);
           for (int k = 0; k < rk; ++k) {
             s += weights[k] * coeff[k].x;
             wp += weights[k] * coeff[k].y;
             fp += weights[k] * coeff[k].z;
+            wn += weights[k] * next[k].x;
+            fn += weights[k] * next[k].y;
           }
-          const V3f& cw = yarn->warp.levels[size_t(m)][size_t(t & 1 ? cb : ca)];
-          const V3f& cf = yarn->weft.levels[size_t(m)][size_t(t & 2 ? rb : ra)];
-          sum = s + wp * cw + fp * cf;
+          const size_t col = size_t(t & 1 ? cb : ca), row = size_t(t & 2 ? rb : ra);
+          sum = s + wp * yarn->warp.levels[size_t(m)][col] + fp * yarn->weft.levels[size_t(m)][row] +
+                wn * (*warp_next)[size_t(m)][col] + fn * (*weft_next)[size_t(m)][row];
         } else {
           for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
         }

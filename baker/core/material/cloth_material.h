@@ -19,6 +19,7 @@
 /// direction d_texture reads as (d.x, d.y, d.z / depth_scale), normalised.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "core/material/material_settings.h"
 #include "core/material/yarn_colours.h"
 #include "core/weave/cloth_spec.h"
+#include "core/weave/thread_layout.h"
 
 namespace clothbake {
 
@@ -51,12 +53,18 @@ class ClothMaterial {
   ClothSpec cloth;
   YarnPalette palette;
   YarnColours colours;
+  std::shared_ptr<const ThreadLayout> warp_threads, weft_threads;  ///< of `cloth`
   DirectionGrid view_grid, light_grid;
   int max_rank = 0;            ///< coefficient slots per texel (the largest rank)
   std::vector<int> rank;       ///< per view node
   std::vector<float> error;    ///< per view node: relative RMSE of its factorisation, level 0
-  /// Per level m (R >> m texels a side): [(view * texels_m + texel) * max_rank + k] RGB.
+  /// Per level m (R >> m texels a side): [(view * texels_m + texel) * max_rank + k] RGB,
+  /// or (specular, own warp, own weft) for colour-free parts.
   std::vector<std::vector<Imath::V3f>> coefficients;
+  /// Colour-free parts only, indexed as `coefficients`: the warp and weft
+  /// diffuse of the threads next to the texel's own, on the side the view
+  /// ray runs toward (its view node's), shown in those threads' colours.
+  std::vector<std::vector<Imath::V2f>> coefficients_next;
   /// Per level: [view * texels_m + texel], texel = y * side + x.
   std::vector<std::vector<float>> alpha;
   /// [(view * light_nodes + node) * max_rank + k].

@@ -26,7 +26,7 @@ bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 struct ViewFactors {
   int rank = 0;
   float error = 0.0f;
-  std::vector<float> coefficients;  // [texel * rank + k] * 3 + c
+  std::vector<float> coefficients;  // [texel * rank + k] * channels + c
   std::vector<float> light;         // [node * rank + k]
   std::vector<float> alpha;         // [texel]
 };
@@ -38,7 +38,7 @@ struct ViewFactors {
 /// the solve. Keeps the smallest rank whose relative Frobenius error is at
 /// most `max_error`. Scaled so that the light factor's entries are of order
 /// 1 and the coefficients of order of a radiance.
-void factorise(const Eigen::MatrixXf& m, float max_error, ViewFactors& out) {
+void factorise(const Eigen::MatrixXf& m, float max_error, int channels, ViewFactors& out) {
   const Eigen::Index nodes = m.cols(), rows = m.rows();
   const Eigen::MatrixXd gram = (m.transpose() * m).cast<double>();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram);
@@ -61,12 +61,12 @@ void factorise(const Eigen::MatrixXf& m, float max_error, ViewFactors& out) {
   const float scale = std::sqrt(float(nodes));
   const Eigen::MatrixXf u = (m * v) / scale;  // rows x rank
   v *= scale;
-  const Eigen::Index texels = rows / 3;
+  const Eigen::Index texels = rows / channels;
   out.coefficients.resize(size_t(rows) * rank);
   for (Eigen::Index t = 0; t < texels; ++t)
     for (int k = 0; k < rank; ++k)
-      for (int c = 0; c < 3; ++c)
-        out.coefficients[(size_t(t) * rank + k) * 3 + c] = u(t * 3 + c, k);
+      for (int c = 0; c < channels; ++c)
+        out.coefficients[(size_t(t) * rank + k) * channels + c] = u(t * channels + c, k);
   out.light.resize(size_t(nodes) * rank);
   for (Eigen::Index n = 0; n < nodes; ++n)
     for (int k = 0; k < rank; ++k) out.light[size_t(n) * rank + k] = v(n, k);
@@ -153,6 +153,12 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
   in.isotropic_albedo = o.isotropic_albedo;
   in.roulette = o.light_roulette;
   in.colour_parts = material.colour_parts();
+  if (in.colour_parts) {
+    in.warp_threads = material.warp_threads.get();
+    in.weft_threads = material.weft_threads.get();
+    in.own_end = in.warp_threads->owner(px);
+    in.own_pick = in.weft_threads->owner(py);
+  }
   return in;
 }
 
@@ -169,7 +175,7 @@ struct ViewLocal {
   FiberLightTable fiber_table;
   NodeMarchScratch scratch;
   NodeMarchCounts counts;
-  std::vector<V3f> radiance;
+  std::vector<V3f> radiance, radiance_next;
 };
 
 /// Step 2 for one view node: every texel's spp jittered samples marched for
@@ -189,13 +195,17 @@ Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTextu
     local.counts.fiber_evaluations += uint64_t(settings.fiber_tangent_nodes) *
                                       uint64_t(settings.fiber_tangent_nodes) * uint64_t(n_lights);
   }
-  Eigen::MatrixXf m(Eigen::Index(R) * R * 3, n_lights);
+  const int ch = material.layout().channels;
+  const bool parts = material.colour_parts();
+  Eigen::MatrixXf m(Eigen::Index(R) * R * ch, n_lights);
   f.alpha.assign(size_t(R) * R, 0.0f);
   local.radiance.resize(size_t(n_lights));
+  local.radiance_next.resize(size_t(n_lights));
   const float inv_spp = 1.0f / float(settings.spp);
   for (int y = 0; y < R; ++y)
     for (int x = 0; x < R; ++x) {
       std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
+      std::fill(local.radiance_next.begin(), local.radiance_next.end(), V3f(0.0f));
       float see_through = 0.0f;
       for (int k = 0; k < settings.spp; ++k) {
         NodeMarchInput in =
@@ -203,13 +213,20 @@ Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTextu
         if (tabulate) in.fiber_table = &local.fiber_table;
         see_through += in.length_mm > 0.0f
                            ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
-                                                       local.counts)
+                                                       local.counts, local.radiance_next.data())
                            : 1.0f;
       }
-      const Eigen::Index row = (Eigen::Index(y) * R + x) * 3;
+      const Eigen::Index row = (Eigen::Index(y) * R + x) * ch;
       for (int n = 0; n < n_lights; ++n) {
         const V3f r = local.radiance[size_t(n)] * inv_spp;
-        m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+        if (!parts) {
+          m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+          continue;
+        }
+        // Specular has no colour: the next threads' joins the own.
+        const V3f rn = local.radiance_next[size_t(n)] * inv_spp;
+        m(row, n) = r.x + rn.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+        m(row + 3, n) = rn.y, m(row + 4, n) = rn.z;
       }
       f.alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
     }
@@ -225,6 +242,7 @@ void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) 
   const size_t r = size_t(material.max_rank);
   const size_t texels = material.layout().level_texels(0);
   const int n_lights = material.light_count();
+  const int ch = material.layout().channels;
   for (int v = 0; v < material.view_count(); ++v) {
     const ViewFactors& f = factors[size_t(v)];
     material.rank[v] = f.rank;
@@ -232,8 +250,10 @@ void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) 
     for (size_t t = 0; t < texels; ++t) {
       material.alpha[0][size_t(v) * texels + t] = f.alpha[t];
       for (int k = 0; k < f.rank; ++k) {
-        const float* c = &f.coefficients[(t * f.rank + k) * 3];
+        const float* c = &f.coefficients[(t * f.rank + k) * size_t(ch)];
         material.coefficients[0][(size_t(v) * texels + t) * r + k] = V3f(c[0], c[1], c[2]);
+        if (ch == 5)
+          material.coefficients_next[0][(size_t(v) * texels + t) * r + k] = Imath::V2f(c[3], c[4]);
       }
     }
     for (int n = 0; n < n_lights; ++n)
@@ -248,14 +268,17 @@ void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) 
 ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shader,
                             const MaterialOptics& optics, const MaterialSettings& settings,
                             uint64_t memory_budget, const std::function<void(double)>& progress,
-                            MaterialBakeStats* stats) {
+                            MaterialBakeStats* stats, const ClothSpec* colour_free_cloth) {
   check_material_settings(settings);
+  if (settings.parts == MaterialParts::SpecularWarpWeft && !colour_free_cloth)
+    throw InputError("parts", "colour-free parts need the colour-free cloth the volume is of");
   if (!(optics.depth_scale > 0.0f) || !std::isfinite(optics.depth_scale))
     throw InputError("depth_scale", "must be positive and finite");
   if (settings.parts == MaterialParts::SpecularWarpWeft && optics.shading != ShadingMode::Fiber)
     throw InputError("parts", "colour-free parts need fibre shading (isotropic shading has one "
                               "albedo and no yarn colours)");
   ClothMaterial material = unbaked_material(volume, optics, settings);
+  if (material.colour_parts()) material.set_cloth(*colour_free_cloth, palette_of(*colour_free_cloth));
   const int n_views = material.view_count(), n_lights = material.light_count();
 
   // Step 1: the light fields, one per light node, over the whole repeat.
@@ -287,7 +310,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
     ViewFactors& f = factors[size_t(view)];
     const Eigen::MatrixXf m = march_view_node(material, volume, shader, fields, light_local, view,
                                               locals.local(), f);
-    factorise(m, settings.max_error, f);
+    factorise(m, settings.max_error, material.layout().channels, f);
     const uint64_t bytes =
         table_bytes += (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
     if (fields_bytes + bytes > memory_budget) over_budget = true;
@@ -312,7 +335,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
     const size_t texels = material.layout().level_texels(0);
     stats->rays = uint64_t(n_views) * texels * uint64_t(settings.spp);
     stats->field_bytes = fields.bytes();
-    stats->uncompressed_values = double(n_views) * double(texels) * n_lights * 3.0;
+    stats->uncompressed_values = double(n_views) * double(texels) * n_lights * material.layout().channels;
   }
   return material;
 }

@@ -17,9 +17,13 @@ struct MaterialLayout {
   int texels = 32;            ///< R: texels per repeat side at level 0, a power of 2
   int directions = 16;        ///< K: view nodes per side of each hemisphere's grid
   int light_directions = 10;  ///< KL: light nodes per side of each hemisphere's grid
+  /// Values per coefficient slot: RGB, or the colour-free parts (specular,
+  /// own warp, own weft, next warp, next weft: docs/material-format.md).
+  int channels = 3;
 
   static MaterialLayout of(const MaterialSettings& s) {
-    return MaterialLayout{s.texels, s.directions, s.light_directions};
+    return MaterialLayout{s.texels, s.directions, s.light_directions,
+                          s.parts == MaterialParts::SpecularWarpWeft ? 5 : 3};
   }
 
   /// Two hemispheres of K x K (KL x KL) nodes (direction_grid.h).
@@ -53,24 +57,24 @@ struct MaterialLayout {
   }
 
   /// The table in memory at `rank` coefficient slots: per view node and
-  /// texel of every level RGB floats per slot and an alpha, and the float
+  /// texel of every level `channels` floats per slot and an alpha, and the float
   /// light factors (nodes x rank per view node).
   uint64_t table_bytes(int rank) const {
     const uint64_t r = uint64_t(std::max(rank, 0));
     return uint64_t(view_count()) *
-           (pyramid_texels() * (3 * r + 1) + uint64_t(light_count()) * r) * sizeof(float);
+           (pyramid_texels() * (uint64_t(channels) * r + 1) + uint64_t(light_count()) * r) * sizeof(float);
   }
   /// The folder's images uncompressed at `rank`: half coefficients and alpha
   /// per level, float light factors (at least one channel).
   uint64_t file_bytes(int rank) const {
     const uint64_t r = uint64_t(std::max(rank, 0));
-    return uint64_t(view_count()) * (pyramid_texels() * (1 + 3 * r) * 2 +
+    return uint64_t(view_count()) * (pyramid_texels() * (1 + uint64_t(channels) * r) * 2 +
                                      uint64_t(light_count()) * std::max<uint64_t>(1, r) * 4);
   }
   /// What one bake worker holds for the view node it marches: the texels x
   /// RGB by light-node matrix and its factorised copy.
   uint64_t view_matrix_bytes() const {
-    return level_texels(0) * 3 * uint64_t(light_count()) * sizeof(float) * 2;
+    return level_texels(0) * uint64_t(channels) * uint64_t(light_count()) * sizeof(float) * 2;
   }
 };
 

@@ -105,7 +105,7 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
 // The same march as march_view_ray (the skeleton of sample_march.h), so the
 // two agree sample for sample; tests/core/material/material_test.cpp checks it.
 float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMarchScratch& scratch,
-                                NodeMarchCounts& counts) {
+                                NodeMarchCounts& counts, V3f* radiance_next) {
   const VolumeTexture& volume = *in.volume;
   const size_t n_lights = in.to_light_local.size();
   scratch.reflect.resize(n_lights);
@@ -120,12 +120,26 @@ float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMar
     scratch.tag.assign(volume.cell_count(), 0);
     scratch.response.assign(volume.cell_count() * n_lights * 2, 0.0f);
   }
+  // Colour-free parts: whether the current cell is of the sample's own
+  // thread (its yarn's centre line is the nearest to the cell's centre).
+  V3f* target = radiance;
+  const V3f cell_mm = volume.cell_size_mm();
+  const int nx = volume.nx(), ny = volume.ny();
   auto shade_cell = [&](const Cell& cell, int shaded) {
     reflect_all_lights(in, cell, shaded, cacheable, reflect, scratch, counts, cells);
+    if (in.colour_parts && radiance_next) {
+      const size_t c = size_t(&cell - cells);
+      const int i = int(c % size_t(nx)), j = int((c / size_t(nx)) % size_t(ny));
+      const bool own =
+          cell.family == YarnFamily::Warp
+              ? in.warp_threads->owner((float(i) + 0.5f) * cell_mm.x) == in.own_end
+              : in.weft_threads->owner((float(j) + 0.5f) * cell_mm.y) == in.own_pick;
+      target = own ? radiance : radiance_next;
+    }
   };
   auto light_sample = [&](const V3f& p_texture, float weight) {
     in.fields->transmittances(p_texture, t_light);
-    for (size_t l = 0; l < n_lights; ++l) radiance[l] += reflect[l] * (t_light[l] * weight);
+    for (size_t l = 0; l < n_lights; ++l) target[l] += reflect[l] * (t_light[l] * weight);
   };
   const SampleMarchResult r = march_samples(in, shade_cell, light_sample);
   counts.samples += uint64_t(r.samples);

@@ -20,6 +20,7 @@
 #include "core/march/sample_march.h"
 #include "core/material/light_fields.h"
 #include "core/texture/volume_texture.h"
+#include "core/weave/thread_layout.h"
 
 namespace clothbake {
 
@@ -63,6 +64,13 @@ struct NodeMarchInput : SampleMarchInput {
   /// cell's response as (specular, warp diffuse, weft diffuse) instead of RGB,
   /// the diffuse divided by k_neutral_albedo (cloth_colours.h).
   bool colour_parts = false;
+  /// Colour-free parts: the cloth's threads and the sample's own warp end
+  /// and weft pick (the threads owning its entry point). A cell of another
+  /// thread, which a ray running across the threads reaches, is counted
+  /// apart (radiance_next), since it shows that thread's colour.
+  const ThreadLayout* warp_threads = nullptr;
+  const ThreadLayout* weft_threads = nullptr;
+  int own_end = 0, own_pick = 0;
 };
 
 /// Work space a thread reuses between marches (no allocation per ray).
@@ -86,7 +94,10 @@ struct NodeMarchCounts {
 
 /// Adds each light node's radiance into radiance[l] (RGB, l < the node
 /// count) and returns the view's transmittance (0 when stopped at the cutoff).
+/// Colour-free parts: the parts of the sample's own threads into radiance[l],
+/// those of other threads into radiance_next[l] (which must then be given).
 float march_view_ray_all_lights(const NodeMarchInput& in, Imath::V3f* radiance,
-                                NodeMarchScratch& scratch, NodeMarchCounts& counts);
+                                NodeMarchScratch& scratch, NodeMarchCounts& counts,
+                                Imath::V3f* radiance_next = nullptr);
 
 }  // namespace clothbake

@@ -35,36 +35,48 @@ ColourStrip colour_strip(std::span<const float> centres, float repeat_mm,
     const int w = ((j % total) + total) % total;
     return colours.empty() ? V3f(0.5f) : colours[size_t(w % nc)];
   };
-  std::vector<double> acc(size_t(columns) * 3, 0.0);
-  for (int j = -1; j <= q * n; ++j) {
-    const double lo = std::max(0.0, 0.5 * (centre(j - 1) + centre(j)));
-    const double hi = std::min(span, 0.5 * (centre(j) + centre(j + 1)));
-    if (!(hi > lo)) continue;
-    const V3f c = colour(j);
-    const int first = std::clamp(int(std::floor(lo / width)), 0, columns - 1);
-    const int last = std::clamp(int(std::ceil(hi / width)) - 1, 0, columns - 1);
-    for (int i = first; i <= last; ++i) {
-      const double overlap = std::min(hi, (i + 1) * width) - std::max(lo, i * width);
-      if (!(overlap > 0.0)) continue;
-      for (int k = 0; k < 3; ++k) acc[size_t(i) * 3 + k] += overlap / width * double(c[k]);
+  // Level 0 of one strip: the colour of thread j + offset over each span
+  // thread j owns, length-weighted per column.
+  auto level0 = [&](int offset) {
+    std::vector<double> acc(size_t(columns) * 3, 0.0);
+    for (int j = -1; j <= q * n; ++j) {
+      const double lo = std::max(0.0, 0.5 * (centre(j - 1) + centre(j)));
+      const double hi = std::min(span, 0.5 * (centre(j) + centre(j + 1)));
+      if (!(hi > lo)) continue;
+      const V3f c = colour(j + offset);
+      const int first = std::clamp(int(std::floor(lo / width)), 0, columns - 1);
+      const int last = std::clamp(int(std::ceil(hi / width)) - 1, 0, columns - 1);
+      for (int i = first; i <= last; ++i) {
+        const double overlap = std::min(hi, (i + 1) * width) - std::max(lo, i * width);
+        if (!(overlap > 0.0)) continue;
+        for (int k = 0; k < 3; ++k) acc[size_t(i) * 3 + k] += overlap / width * double(c[k]);
+      }
     }
-  }
-  strip.levels.assign(size_t(std::max(levels, 1)), {});
-  std::vector<V3f>& level0 = strip.levels[0];
-  level0.resize(size_t(columns));
-  for (int i = 0; i < columns; ++i)
-    level0[size_t(i)] = V3f(float(acc[size_t(i) * 3]), float(acc[size_t(i) * 3 + 1]),
-                            float(acc[size_t(i) * 3 + 2]));
-  for (int m = 1; m < levels; ++m) {
-    const std::vector<V3f>& fine = strip.levels[size_t(m - 1)];
-    std::vector<V3f>& coarse = strip.levels[size_t(m)];
-    coarse.resize(std::max<size_t>(1, fine.size() / 2));
-    if (fine.size() == 1) {
-      coarse[0] = fine[0];
-      continue;
+    std::vector<V3f> out(static_cast<size_t>(columns));
+    for (int i = 0; i < columns; ++i)
+      out[size_t(i)] = V3f(float(acc[size_t(i) * 3]), float(acc[size_t(i) * 3 + 1]),
+                           float(acc[size_t(i) * 3 + 2]));
+    return out;
+  };
+  // The levels above: pairwise averages, so each is the box average of level 0.
+  auto pyramid = [&](std::vector<V3f> base) {
+    std::vector<std::vector<V3f>> out(size_t(std::max(levels, 1)));
+    out[0] = std::move(base);
+    for (int m = 1; m < levels; ++m) {
+      const std::vector<V3f>& fine = out[size_t(m - 1)];
+      std::vector<V3f>& coarse = out[size_t(m)];
+      coarse.resize(std::max<size_t>(1, fine.size() / 2));
+      if (fine.size() == 1) {
+        coarse[0] = fine[0];
+        continue;
+      }
+      for (size_t i = 0; i < coarse.size(); ++i) coarse[i] = 0.5f * (fine[2 * i] + fine[2 * i + 1]);
     }
-    for (size_t i = 0; i < coarse.size(); ++i) coarse[i] = 0.5f * (fine[2 * i] + fine[2 * i + 1]);
-  }
+    return out;
+  };
+  strip.levels = pyramid(level0(0));
+  strip.plus = pyramid(level0(1));
+  strip.minus = pyramid(level0(-1));
   return strip;
 }
 

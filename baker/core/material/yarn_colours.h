@@ -29,10 +29,14 @@ struct YarnPalette {
 };
 YarnPalette palette_of(const ClothSpec& spec);
 
-/// One family's strip: per level, q * (texels >> level) colours.
+/// One family's strip: per level, q * (texels >> level) colours, those of
+/// the threads owning each texel and those of their next neighbours on
+/// either side (which a view ray reaches when it runs across the threads).
 struct ColourStrip {
   int repeats = 1;  ///< q: material repeats per colour repeat
-  std::vector<std::vector<Imath::V3f>> levels;
+  std::vector<std::vector<Imath::V3f>> levels;  ///< the owning thread's colour
+  std::vector<std::vector<Imath::V3f>> plus;    ///< the colour of the owner's thread + 1
+  std::vector<std::vector<Imath::V3f>> minus;   ///< the colour of the owner's thread - 1
 };
 
 /// The strip of threads with centres `centres_mm` (ascending, in [0,

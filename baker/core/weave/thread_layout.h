@@ -42,6 +42,13 @@ class ThreadLayout {
   /// `gap_mm` is the distance between those two centres.
   int locate(float coord_mm, float& t, float& gap_mm) const;
   int wrap(int i) const { return ((i % m_count) + m_count) % m_count; }
+  /// The thread whose centre is nearest `coord_mm`, wrapped into the repeat:
+  /// the thread that owns the point (its span runs to the midpoints).
+  int owner(float coord_mm) const {
+    float t, gap;
+    const int i = locate(coord_mm, t, gap);
+    return wrap(t < 0.5f ? i : i + 1);
+  }
 
  private:
   int m_count = 0;

@@ -63,7 +63,12 @@ TEST(ColourStrip, ASequenceLongerThanTheRepeatSpansSeveral) {
   const ColourStrip s = colour_strip(centres, 1.0f, colours, 8, 4);
   ASSERT_EQ(s.repeats, 3);
   ASSERT_EQ(s.levels[0].size(), 24u);
-  for (int i = 0; i < 24; ++i) expect_near(s.levels[0][i], colours[(i / 4) % 3], "level 0", i);
+  for (int i = 0; i < 24; ++i) {
+    expect_near(s.levels[0][i], colours[(i / 4) % 3], "level 0", i);
+    // The neighbours' colours: thread j + 1 and j - 1 (wrapping over the q repeats).
+    expect_near(s.plus[0][i], colours[(i / 4 + 1) % 3], "plus", i);
+    expect_near(s.minus[0][i], colours[(i / 4 + 2) % 3], "minus", i);
+  }
   for (size_t m = 1; m < s.levels.size(); ++m) {
     const size_t n = s.levels[m].size(), span = size_t(1) << m;
     ASSERT_EQ(n, 24u >> m);
@@ -145,8 +150,9 @@ TEST(ColourFree, MaterialInColoursAEqualsABakeInColoursA) {
   const VolumeTexture free = generate_volume(free_spec, k_budget);
   const ClothMaterial rgb =
       bake_material(coloured, shader, MaterialOptics{}, tiny_settings(MaterialParts::Rgb), k_budget);
-  ClothMaterial parts = bake_material(free, shader, MaterialOptics{},
-                                      tiny_settings(MaterialParts::SpecularWarpWeft), k_budget);
+  ClothMaterial parts =
+      bake_material(free, shader, MaterialOptics{}, tiny_settings(MaterialParts::SpecularWarpWeft),
+                    k_budget, {}, nullptr, &free_spec);
   parts.set_cloth(free_spec, palette_of(spec));
   ASSERT_EQ(parts.repeat_mm, rgb.repeat_mm);
   double worst = 0.0, mean = 0.0;
