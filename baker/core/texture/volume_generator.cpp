@@ -14,6 +14,7 @@
 
 #include "core/util/error.h"
 #include "core/util/random.h"
+#include "core/weave/cloth_colours.h"
 #include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
 
@@ -300,7 +301,16 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
     return volume;
   }
   const V3f cell_mm = volume.cell_size_mm();
-  const PeriodicNoise noise(geom.size_mm, spec.density.noise_scale_mm, spec.seed);
+  // Every random choice repeats with the weave, not with its colours: a
+  // colour sequence spanning q weave repeats tiles the same cells q times
+  // (so a colour-free material of the weave is this cloth's, recoloured).
+  const Imath::V2f weave_mm = weave_repeat_mm(spec);
+  const int qx = std::max(1, int(std::lround(geom.size_mm.x / weave_mm.x)));
+  const int qy = std::max(1, int(std::lround(geom.size_mm.y / weave_mm.y)));
+  const int weave_cells_x = res.cells_x / qx, weave_cells_y = res.cells_y / qy;
+  const int weave_ends = weave.ends().count() / qx, weave_picks = weave.picks().count() / qy;
+  const PeriodicNoise noise(V3f(weave_mm.x, weave_mm.y, geom.size_mm.z),
+                            spec.density.noise_scale_mm, spec.seed);
   const int ss = res.supersample;
   const float inv_samples = 1.0f / float(ss * ss * ss);
   const float spread_rad = spec.angle_spread_deg * k_pi / 180.0f;
@@ -309,8 +319,8 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
   auto turns_per_repeat = [](float repeat_mm, float pitch_mm) {
     return std::max(1.0f, std::round(repeat_mm / pitch_mm));
   };
-  const float warp_turns = turns_per_repeat(geom.size_mm.y, spec.warp.ply_pitch_mm);
-  const float weft_turns = turns_per_repeat(geom.size_mm.x, spec.weft.ply_pitch_mm);
+  const float warp_turns = turns_per_repeat(weave_mm.y, spec.warp.ply_pitch_mm);
+  const float weft_turns = turns_per_repeat(weave_mm.x, spec.weft.ply_pitch_mm);
 
   tbb::parallel_for(tbb::blocked_range<int>(0, res.layers * res.cells_y), [&](const auto& rows) {
     for (int row = rows.begin(); row != rows.end(); ++row) {
@@ -356,12 +366,13 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         const bool warp = central.family == YarnFamily::Warp;
         const YarnSpec& yarn = warp ? spec.warp : spec.weft;
         const ThreadLayout& layout = warp ? weave.ends() : weave.picks();
-        const int yarn_id = layout.wrap(central.index);
-        const float repeat_mm = warp ? geom.size_mm.y : geom.size_mm.x;
+        const int yarn_id = layout.wrap(central.index);  // its colour
+        const int weave_yarn = yarn_id % (warp ? weave_ends : weave_picks);  // its random phase
+        const float repeat_mm = warp ? weave_mm.y : weave_mm.x;
         const float turns = warp ? warp_turns : weft_turns;
         const float phase0 =
             2.0f * k_pi *
-            unit_float(hash_key(spec.seed, rng_stream::phase, uint64_t(central.family), yarn_id));
+            unit_float(hash_key(spec.seed, rng_stream::phase, uint64_t(central.family), weave_yarn));
         const float phase = phase0 + 2.0f * k_pi * turns * central.along_mm / repeat_mm;
         float rel = std::fmod(central.polar - phase, 2.0f * k_pi);
         if (rel < 0.0f) rel += 2.0f * k_pi;
@@ -371,7 +382,8 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         V3f tangent =
             (central.axis_texture * std::cos(twist) + across * (bundle_sign * std::sin(twist)))
                 .normalized();
-        const uint64_t cell_key = hash_key(spec.seed, rng_stream::spread, i, j, k);
+        const int iw = i % weave_cells_x, jw = j % weave_cells_y;
+        const uint64_t cell_key = hash_key(spec.seed, rng_stream::spread, iw, jw, k);
         const float u1 = std::max(unit_float(mix64(cell_key)), 1e-7f);
         const float u2 = unit_float(mix64(cell_key + 1));
         const float u3 = unit_float(mix64(cell_key + 2));
@@ -383,7 +395,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         // below, with seeded variation.
         const ShadingSpec& s = spec.shading;
         const float h = (k + 0.5f) / res.layers;
-        const uint64_t shade_key = hash_key(spec.seed, rng_stream::shade, i, j, k);
+        const uint64_t shade_key = hash_key(spec.seed, rng_stream::shade, iw, jw, k);
         const float v1 = 2.0f * unit_float(mix64(shade_key)) - 1.0f;
         const float v2 = 2.0f * unit_float(mix64(shade_key + 1)) - 1.0f;
         cell.specular = std::clamp((s.specular_bottom + (s.specular_top - s.specular_bottom) * h) *

@@ -120,6 +120,36 @@ TEST(ColourFree, KeepsTheWeaveAndNamesTheFirstDifference) {
   EXPECT_EQ(first_difference(colour_free(d), free).field, "");
 }
 
+// A colour sequence spanning q weave repeats tiles the colour-free cloth's
+// cells q times: density, tangent and specular the same, diffuse the thread's
+// colour times the same scale. So a colour-free material is exactly this
+// cloth's, recoloured (no other noise or variation).
+TEST(ColourFree, AColourSequenceTilesTheColourFreeCells) {
+  ClothSpec spec;
+  spec.resolution = {16, 16, 4, 1};
+  spec.warp.colors = {V3f(0.4f, 0.1f, 0.1f), V3f(0.1f, 0.3f, 0.1f), V3f(0.1f, 0.1f, 0.35f)};
+  const VolumeTexture striped = generate_volume(spec, k_budget);
+  const VolumeTexture free = generate_volume(colour_free(spec), k_budget);
+  ASSERT_EQ(striped.nx(), 3 * free.nx());
+  int compared = 0;
+  for (int k = 0; k < free.nz(); ++k)
+    for (int j = 0; j < free.ny(); ++j)
+      for (int i = 0; i < striped.nx(); ++i) {
+        const Cell& a = striped.at(i, j, k);
+        const Cell& b = free.at(i % free.nx(), j, k);
+        ASSERT_EQ(a.density, b.density) << i << "," << j << "," << k;
+        ASSERT_EQ(a.family, b.family);
+        ASSERT_EQ(a.tangent, b.tangent);
+        ASSERT_EQ(a.specular, b.specular);
+        if (a.family != YarnFamily::Warp) continue;
+        const int end = int((i + 0.5f) * striped.cell_size_mm().x / spec.warp.spacing_mm);
+        const V3f colour = spec.warp.colors[size_t(end % 3)];
+        EXPECT_NEAR(a.diffuse.x, colour.x * b.diffuse.x / k_neutral_albedo, 1e-6f);
+        ++compared;
+      }
+  EXPECT_GT(compared, 100);
+}
+
 MaterialSettings tiny_settings(MaterialParts parts) {
   MaterialSettings s;
   s.texels = 4;
