@@ -111,7 +111,9 @@ void run_material(const MaterialArgs& args) {
                                      " MiB (light fields and one view's table per thread), over "
                                      "the budget of " + std::to_string(budget >> 20) + " MiB");
   if (args.estimate) {
-    const MaterialEstimate e = probe_material(*src.volume, *src.shader, src.optics, settings, threads);
+    const MaterialEstimate e =
+        probe_material(*src.volume, *src.shader, src.optics, settings, threads,
+                       src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth : nullptr);
     std::printf("%s\n", io::material_estimate_json(settings, e, threads).dump(2).c_str());
     return;
   }

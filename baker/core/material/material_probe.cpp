@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/material/material_bake.h"
+#include "core/util/error.h"
 #include "core/util/stopwatch.h"
 
 namespace clothbake {
@@ -73,7 +74,7 @@ struct ProbeLocal {
   FiberLightTable table_1, table_p;
   NodeMarchScratch scratch_1, scratch_p;
   NodeMarchCounts counts;
-  std::vector<V3f> radiance;
+  std::vector<V3f> radiance, radiance_next;
   double table_core = 0.0, march_1_core = 0.0, march_p_core = 0.0;
 };
 
@@ -116,6 +117,7 @@ void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
     }
     local.scratch_1.view_tag = local.scratch_p.view_tag = uint32_t(view) + 1;
     local.radiance.resize(size_t(P));
+    local.radiance_next.resize(size_t(P));
     for (uint64_t r = first_ray(i); r < first_ray(i) + probe_rays; ++r) {
       const int k = int(r % uint64_t(s.spp)), t = int(r / uint64_t(s.spp));
       for (int pass = 0; pass < 2; ++pass) {
@@ -127,7 +129,8 @@ void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
         std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
         if (in.length_mm > 0.0f)
           march_view_ray_all_lights(in, local.radiance.data(),
-                                    pass == 0 ? local.scratch_1 : local.scratch_p, local.counts);
+                                    pass == 0 ? local.scratch_1 : local.scratch_p, local.counts,
+                                    local.radiance_next.data());
         (pass == 0 ? local.march_1_core : local.march_p_core) += seconds_since(tm);
       }
     }
@@ -149,13 +152,13 @@ void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
       (per_view_table * double(V) + per_ray * double(e.rays)) / double(std::max(threads, 1));
 }
 
-/// Step 3: one view's factorisation, at the real size (3 R^2 rows by L light
+/// Step 3: one view's factorisation, at the real size (channels x R^2 rows by L light
 /// nodes) up to 64 x 64 texels, on a matrix of the same shape; the products
 /// scale with the rows, the eigensolve does not. Every view's is the same work.
 double probe_factorise(const MaterialLayout& layout, int threads) {
   const uint64_t texels = layout.level_texels(0);
-  const Eigen::Index rows = Eigen::Index(std::min<uint64_t>(texels, 64 * 64)) * 3;
-  const double row_scale = double(texels) * 3.0 / double(rows);
+  const Eigen::Index rows = Eigen::Index(std::min<uint64_t>(texels, 64 * 64)) * layout.channels;
+  const double row_scale = double(texels) * double(layout.channels) / double(rows);
   const Eigen::MatrixXf m = Eigen::MatrixXf::Random(rows, layout.light_count()).cwiseAbs();
   const auto tg = Clock::now();
   const Eigen::MatrixXd gram = (m.transpose() * m).cast<double>();
@@ -193,10 +196,15 @@ double probe_mips(const VolumeTexture& volume, const MaterialOptics& optics,
 
 MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
                                 const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads) {
+                                int threads, const ClothSpec* colour_free_cloth) {
   MaterialEstimate e;
   const auto probe_start = Clock::now();
-  const ClothMaterial material = unbaked_material(volume, optics, settings);
+  ClothMaterial material = unbaked_material(volume, optics, settings);
+  if (material.colour_parts()) {
+    if (!colour_free_cloth)
+      throw InputError("parts", "colour-free parts need the colour-free cloth the volume is of");
+    material.set_cloth(*colour_free_cloth, palette_of(*colour_free_cloth));
+  }
   const MaterialLayout layout = material.layout();
   e.view_nodes = layout.view_count();
   e.light_nodes = layout.light_count();

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "core/fiber/fiber_shader.h"
+#include "core/weave/cloth_spec.h"
 #include "core/material/material_settings.h"
 #include "core/texture/volume_texture.h"
 
@@ -53,6 +54,6 @@ inline constexpr int k_probe_rays_per_view = 128;
 /// runs its views in parallel.
 MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
                                 const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads);
+                                int threads, const ClothSpec* colour_free_cloth = nullptr);
 
 }  // namespace clothbake
