@@ -130,7 +130,7 @@ bake_render "$BAKE_REF" 7
 if [[ $REUSE_BAKE == 1 && -f $OUT/material/manifest.json ]]; then
   echo "== clothbake_material: reusing $OUT/material"
 else
-  step clothbake_material "$CLOTHBAKE" material "$SCENE" -o "$OUT/material" --quiet
+  step clothbake_material "$CLOTHBAKE" material "$SCENE" -o "$OUT/material" --parts rgb --quiet
 fi
 material_render() {  # material_render SAMPLES SEED
   local tag="material_s$1_seed$2"

@@ -227,7 +227,7 @@ def main():
     bent_scene = write_scene("bent", bent_obj)
 
     material = os.path.join(TMP, "material")
-    run(["material", base, "-o", material, "--texels", "16", "--directions", "8",
+    run(["material", base, "-o", material, "--parts", "rgb", "--texels", "16", "--directions", "8",
          "--light-directions", "6", "--spp", "1", "--quiet"])
     refs = {}
     for name, path in (("base", base), ("lights", lights_scene), ("camera", camera_scene),
@@ -365,7 +365,7 @@ def main():
     # Cycles there, with a small material of the paper cloth.
     paper = os.path.join(SOURCE, "testscenes", "paper", "scene.json")
     paper_material = os.path.join(TMP, "paper_material")
-    run(["material", paper, "-o", paper_material, "--texels", "16", "--directions", "8",
+    run(["material", paper, "-o", paper_material, "--parts", "rgb", "--texels", "16", "--directions", "8",
          "--light-directions", "6", "--spp", "1", "--quiet"])
     (cloth,) = import_scene(paper, clear=True, samples=SPP)
     bilinear_patches(cloth)

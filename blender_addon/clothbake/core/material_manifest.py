@@ -84,8 +84,16 @@ def read_material(folder):
     m = _load_json(folder, path)
     if not isinstance(m, dict) or m.get("format") != FORMAT:
         raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
-    if _field(m, "version", int, path) != 1:
-        raise ClothbakeError("must be 1", path, "version")
+    version = _field(m, "version", int, path)
+    if version not in (1, 2):
+        raise ClothbakeError("must be 1 or 2", path, "version")
+    # Version 2 adds colour-free parts (docs/material-format.md); the add-on
+    # applies RGB materials only, and Bake material asks for them.
+    parts = m.get("parts", "rgb") if version == 2 else "rgb"
+    if parts != "rgb":
+        raise ClothbakeError(f"is \"{parts}\": colour-free materials are not applied in "
+                             "Blender yet; bake this one with `clothbake material ... --parts "
+                             "rgb` (Bake material in the panel does)", path, "parts")
     texels = _field(m, "texels", int, path)
     lo, hi = MATERIAL_TEXELS_RANGE
     if texels < lo or texels > hi or texels & (texels - 1):
