@@ -12,7 +12,9 @@ import numpy as np
 
 from ..core.defaults import DEPTH_SCALE_TOLERANCE
 from ..core.errors import ClothbakeError
+from ..core.material_manifest import SWF
 from ..core.material_pack import pack_material, read_material
+from . import material_colours
 from . import patch_nodes
 from .apply import load_data_image
 from .material_drivers import drive_camera, drive_light
@@ -291,9 +293,16 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
 
     key = os.path.basename(pack.folder)
     kinds = light_kinds(lights)
+    # A colour-free material's group holds the object's own colour strips:
+    # one group per object.
+    strips, strips_json = material_colours.make_strips(obj, info) if info.parts == SWF else \
+        (None, None)
+    owner = f" for {obj.name}" if strips is not None else ""
+    next_img = load_data_image(pack.next_coefficients, half=True) if strips is not None \
+        else None
     group = build_group(f"clothbake material {info.name or 'cloth'} {key} {len(lights)}L"
-                        f"{layout_suffix(kinds)} {route}", info, pack, coeff, lights_img, kinds,
-                        route)
+                        f"{layout_suffix(kinds)} {route}{owner}", info, pack, coeff, lights_img,
+                        kinds, route, strips, next_img)
 
     name = f"clothbake material {obj.name}"
     material = bpy.data.materials.get(name) or bpy.data.materials.new(name)
@@ -316,10 +325,20 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     material.use_backface_culling = False
     material["clothbake_material"] = info.folder
     material["clothbake_route"] = route
+    if strips is not None:
+        material[material_colours.STRIPS_KEY] = strips_json
+    elif material_colours.STRIPS_KEY in material:
+        del material[material_colours.STRIPS_KEY]
 
     obj.data.materials.clear()
     obj.data.materials.append(material)
     obj["clothbake_material"] = info.folder
+    if strips is not None:
+        notes += material_colours.refresh_material(material, obj)
+        cloth = getattr(obj, "clothbake", None)
+        if cloth is None or not cloth.is_cloth:
+            notes.append(f"'{obj.name}' is no cloth object: its colour-free material takes "
+                         "the colours it was baked with")
     # A per-scene lookup's patch modifier (apply.py) means nothing to a
     # material, and its geometry-nodes output left Eevee's viewport without
     # the UV map's tangents: a black plane in Material Preview.

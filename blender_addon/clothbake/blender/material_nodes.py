@@ -29,7 +29,15 @@ level). Per shading point the group computes, one function a step:
      through its centre, picked at random on its shape (_area_offset), each
      a point light of half its intensity times cos(off its normal);
   6. L = max(0, sum_k C_k W_k) (_components), alpha A; the shaders
-     (_shaders).
+     (_shaders). A colour-free material (parts "specular-warp-weft") sums
+     its five parts apart, S = sum_k S_k W_k and likewise W, F, Wn, Fn
+     (each RGB: W_k is), and L = S + W c_warp + F c_weft + Wn c_warp_next
+     + Fn c_weft_next (_coloured), the yarn colours read from the group's
+     colour inputs or, per thread, from the colour strips
+     (material_colours.py) at the texel step 4 picked (_strip_uv), the
+     next colours from the owner + 1 or - 1 strip as the picked view node's
+     ray runs (the pack's next atlas holds that side): colours change with
+     no rebuild, by the inputs' values and the strips' pixels.
 Route "exact": Emission(L) + Transparent(1 - A), the reference renderer's
 sum (no shadows from other objects, no cloth-on-cloth shadowing).
 Route "cycles-lit": lights on the viewer's side of the surface go through
@@ -70,6 +78,14 @@ Frame = namedtuple("Frame", "geometry facing normal tangent bitangent scale")
 # What the light loop hands the component loop, per light: the light-factor
 # image's address and [(irradiance, accumulator: 0 radiance / front, 1 behind)].
 LightTerm = namedtuple("LightTerm", "uv parts")
+# The texel step 4 picked: the repeat coordinates (UV x repeats per UV), the
+# picked texel's pixel centre in its tile (texel + 1.5: one past the
+# gutter), the level's S_L and the level L.
+Texel = namedtuple("Texel", "ux uy tx ty side_texels level")
+# A colour-free material's colour strips (material_colours.py): the warp's
+# and the weft's image, q (material repeats per colour repeat) and rows per
+# level (core/yarn_colours.strip_layout).
+Strips = namedtuple("Strips", "warp weft q_warp q_weft rows_warp rows_weft")
 
 
 def _mix(g, blend, a, b, fac, column):
@@ -119,10 +135,24 @@ def _inputs(group, kinds):
             new("NodeSocketFloat", f"Light {l} ellipse").default_value = 0.0
 
 
-def _new_group(name, key, kinds):
+def _colour_inputs(group):
+    """A colour-free material's yarn colours: each family's colour, and
+    whether its threads take theirs from the family's strips instead (1: a
+    per-thread sequence; 0: every thread the family's colour)."""
+    new = group.inputs.new
+    for family in ("Warp", "Weft"):
+        new("NodeSocketColor", f"{family} colour").default_value = (0.5, 0.5, 0.5, 1.0)
+    for family in ("Warp", "Weft"):
+        s = new("NodeSocketFloat", f"{family} per thread")
+        s.default_value, s.min_value, s.max_value = 0.0, 0.0, 1.0
+
+
+def _new_group(name, key, kinds, strips=None):
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
     group["clothbake_key"] = key
     _inputs(group, kinds)
+    if strips is not None:
+        _colour_inputs(group)
     group.outputs.new("NodeSocketShader", "Shader")
     group.outputs.new("NodeSocketColor", "Color")
     group.outputs.new("NodeSocketFloat", "Alpha")
@@ -270,7 +300,7 @@ def _view_node(g, k, view_side, vu, vv, xi_i, xi_j):
 
 def _level(g, gin, info, position, vz, xi):
     """Step 3: the level from the footprint, picked stochastically between
-    the two around it; returns (S_L, P_L, Y_L) of the pack's layout."""
+    the two around it; returns (S_L, P_L, Y_L) of the pack's layout and L."""
     k, r = info.k, info.texels
     cam_point = g.node("ShaderNodeVectorTransform", 4, vector_type="POINT",
                        convert_from="WORLD", convert_to="CAMERA")
@@ -302,14 +332,15 @@ def _level(g, gin, info, position, vz, xi):
     y_level = g.math("MULTIPLY", g.math("ADD", g.math("MULTIPLY", g.math(
         "SUBTRACT", 1.0, half_pow, column=9), 2.0 * r, column=9), g.math(
         "MULTIPLY", level, 2.0, column=9), column=9), 2.0 * k, column=10)   # Y_L
-    return side_texels, pitch, y_level
+    return side_texels, pitch, y_level, level
 
 
 def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y):
     """Steps 2 and 4: the texel (periodic, stochastic bilinear) and the
-    address of component 0's tile; returns (uv0, the step to component k)."""
+    address of component 0's tile; returns (uv0, the step to component k,
+    Texel: where the pick landed, for the colour strips)."""
     vi, view_row = view
-    side_texels, pitch, y_level = level
+    side_texels, pitch, y_level, level_index = level
     ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
 
     def texel(coord, xi, column):
@@ -329,7 +360,7 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y):
     # component k at + (k % per_row) K P_L across and (k // per_row) bands up
     step = g.combine(g.math("MULTIPLY", pitch, float(k) / pack.width, column=12),
                      float(pack.band) / pack.height, 0.0, column=12)
-    return uv0, step
+    return uv0, step, Texel(ux, uy, tx, ty, side_texels, level_index)
 
 
 def _spot_mask(g, gin, l, direction, col):
@@ -476,11 +507,15 @@ def _factor_reads(g, gi, per_light, light_image, k, pack, col):
     return factors
 
 
-def _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col):
+def _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col,
+               next_image=None):
     """Component kk (channel c of its group's factors): its coefficients
-    read, times each light's W_k, added into `sums`. Returns the read's
-    alpha output."""
-    uv0, step = address
+    read, times each light's W_k, added into `sums`. Colour-free (a
+    `next_image`): each of the five parts S, W, F (the coefficients' RGB)
+    and Wn, Fn (the next atlas's R, G) times W_k into its own sum, [S, W,
+    F, Wn, Fn] per accumulator. Returns the read's alpha output (and, when
+    colour-free, the next atlas's sides: plus_x, plus_y)."""
+    uv0, step = address[:2]
     where = uv0
     if kk:
         n = g.node("ShaderNodeVectorMath", col + 2, operation="MULTIPLY_ADD")
@@ -495,6 +530,18 @@ def _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, c
     for light, f in zip(per_light, factors):
         for e, which in light.parts:
             weights[which] = _mix(g, "ADD", weights[which] or BLACK, e, f[c], col + 4)
+    if next_image is not None:
+        nxt = g.node("ShaderNodeTexImage", col + 3, image=next_image,
+                     interpolation="Closest", extension="EXTEND", label=f"component {kk} next")
+        g.feed(nxt.inputs["Vector"], where)
+        s_, w_, f_ = g.separate(tex.outputs["Color"], column=col + 4)
+        wn, fn, plus_x = g.separate(nxt.outputs["Color"], column=col + 4)
+        for which in (0, 1):
+            if weights[which] is not None:
+                acc = sums[which] or [BLACK] * 5
+                sums[which] = [_mix(g, "ADD", a, weights[which], p, col + 5)
+                               for a, p in zip(acc, (s_, w_, f_, wn, fn))]
+        return tex.outputs["Alpha"], (plus_x, nxt.outputs["Alpha"])
     for which in (0, 1):
         if weights[which] is not None:
             term = _mix(g, "MULTIPLY", tex.outputs["Color"], weights[which], 1.0, col + 5)
@@ -510,21 +557,103 @@ def _components(g, images, address, per_light, k, pack, col):
     stack (255 floats) until its last user: all W_k first, then all C_k,
     overflowed the stack at rank 24 on the cycles-lit route ("out of SVM
     stack space": a black cloth). Returns ([radiance (front when lit),
-    radiance from behind], alpha, the next free column)."""
-    coeff_image, light_image = images
+    radiance from behind], alpha, the next free column); colour-free
+    (images holding a third, the next atlas): ([[S, W, F, Wn, Fn] per
+    accumulator], alpha, the column, (plus_x, plus_y))."""
+    coeff_image, light_image = images[:2]
+    next_image = images[2] if len(images) > 2 else None
     sums = [None, None]
-    alpha = None
+    alpha = sides = None
     for gi in range(pack.groups):
         factors = _factor_reads(g, gi, per_light, light_image, k, pack, col)
         for c in range(4):
             kk = 4 * gi + c
             if kk >= pack.rank:
                 break
-            a = _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col)
+            a = _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col,
+                           next_image)
+            if next_image is not None:
+                a, side = a
+                if kk == 0:
+                    sides = side
             if kk == 0:
                 alpha = a
         col += 6
+    if next_image is not None:
+        return sums, alpha, col, sides
     return sums, alpha, col
+
+
+def _strip_rows(g, coord, t_pixel, texel, q, width, rows, col):
+    """The picked texel's place in its family's strips: the column c over
+    the q repeats (texel i = t_pixel - 1.5 in -1 .. S_L of repeat
+    floor(coord) mod q, wrapped into 0 .. q S_L - 1: periodic), as the
+    pixel column c mod W and the row L R + c // W of the own block. The
+    same texel as the coefficients, so each pick's colour goes with its
+    coefficients."""
+    i = g.math("SUBTRACT", t_pixel, 1.5, column=col)
+    if q > 1:
+        whole = g.math("FLOOR", coord, column=col)
+        rep = g.math("WRAP", whole, float(q), 0.0, column=col)
+        i = g.math("MULTIPLY_ADD", rep, texel.side_texels, i, column=col)
+    columns = g.math("MULTIPLY", texel.side_texels, float(q), column=col)
+    column = g.math("WRAP", i, columns, 0.0, column=col)
+    row = g.math("MULTIPLY", texel.level, float(rows), column=col)
+    if rows > 1:
+        row = g.math("ADD", row, g.math("FLOOR", g.math("DIVIDE", column, float(width),
+                                                        column=col), column=col), column=col)
+        column = g.math("WRAP", column, float(width), 0.0, column=col)
+    return column, row
+
+
+def _strip_places(g, texel, strips, col):
+    """(column, own row) of the warp strips (along x) and the weft's (y)."""
+    return (_strip_rows(g, texel.ux, texel.tx, texel, strips.q_warp, strips.warp.size[0],
+                        strips.rows_warp, col),
+            _strip_rows(g, texel.uy, texel.ty, texel, strips.q_weft, strips.weft.size[0],
+                        strips.rows_weft, col + 1))
+
+
+def _yarn_colours(g, gin, family, place, plus, image, rows, levels, col):
+    """The family's own and next colours at the pick: its strips' (own
+    block; plus block 1 where the ray runs toward +, minus block 2), or the
+    family's colour input where its per-thread flag is 0."""
+    column, row = place
+    width, height = image.size
+    u = g.math("DIVIDE", g.math("ADD", column, 0.5, column=col), float(width), column=col)
+    block = g.math("MULTIPLY", g.math("SUBTRACT", 2.0, plus, column=col), float(levels * rows),
+                   column=col)
+    out = []
+    for label, r in (("own", row), ("next", g.math("ADD", row, block, column=col))):
+        v = g.math("DIVIDE", g.math("ADD", r, 0.5, column=col), float(height), column=col)
+        tex = g.node("ShaderNodeTexImage", col + 1, image=image, interpolation="Closest",
+                     extension="EXTEND", label=f"{family} colours, {label}")
+        g.feed(tex.inputs["Vector"], g.combine(u, v, 0.0, column=col))
+        out.append(_mix(g, "MIX", gin[f"{family} colour"], tex.outputs["Color"],
+                        gin[f"{family} per thread"], col + 2))
+    return out
+
+
+def _coloured(g, gin, sums, places, sides, strips, levels, col):
+    """Colour-free sums [S, W, F, Wn, Fn] per accumulator into radiance:
+    S + W c_warp + F c_weft + Wn c_warp_next + Fn c_weft_next
+    (docs/material-format.md), channel by channel, so a coloured light's
+    W_k stays RGB throughout."""
+    warp, warp_next = _yarn_colours(g, gin, "Warp", places[0], sides[0], strips.warp,
+                                    strips.rows_warp, levels, col)
+    weft, weft_next = _yarn_colours(g, gin, "Weft", places[1], sides[1], strips.weft,
+                                    strips.rows_weft, levels, col)
+    out = []
+    for acc in sums:
+        if acc is None:
+            out.append(None)
+            continue
+        rgb = acc[0]
+        for part, colour in zip(acc[1:], (warp, weft, warp_next, weft_next)):
+            rgb = _mix(g, "ADD", rgb, _mix(g, "MULTIPLY", part, colour, 1.0, col + 3), 1.0,
+                       col + 4)
+        out.append(rgb)
+    return out
 
 
 def _shaders(g, sums, alpha, denom, lit, col):
@@ -591,20 +720,26 @@ def layout_suffix(kinds):
     return " " + "".join({"POINT": "p", "SPOT": "s", "AREA": "a"}[k] for k in kinds)
 
 
-def build_group(name, info, pack, coeff_image, light_image, kinds, route):
+def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips=None,
+                next_image=None):
     """The node group, reused when one of this name was built from the same
     pack; else built anew (the steps of the module docstring, in order) and
     every material of the old one moved onto it. `kinds`: per light, "POINT"
     (a sun or a point light), "SPOT" or "AREA" (light_kinds); an int n
-    stands for n suns or point lights."""
+    stands for n suns or point lights. A colour-free material: `strips`
+    (Strips, its colour strips) and `next_image` (the pack's next atlas);
+    the group then has the colour inputs."""
     if isinstance(kinds, int):
         kinds = ["POINT"] * kinds
     key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
           f"{layout_suffix(kinds)} {route} {pack.width}x{pack.height}"
+    if strips is not None:
+        key += f" {info.parts} {strips.warp.name} {strips.q_warp} {tuple(strips.warp.size)}" \
+               f" {strips.weft.name} {strips.q_weft} {tuple(strips.weft.size)}"
     old = bpy.data.node_groups.get(name)
     if old is not None and old.get("clothbake_key") == key:
         return old
-    group = _new_group(name, key, kinds)
+    group = _new_group(name, key, kinds, strips)
     g = Graph(group)
     gin = g.node("NodeGroupInput", 0).outputs
     lit = route == "cycles-lit"
@@ -616,10 +751,17 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route):
     view = _view_node(g, info.k, view_side, vu, vv, xi1, xi2)
     level = _level(g, gin, info, position, vz, xi3)
     address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5)
+    places = None if strips is None else _strip_places(g, address[2], strips, 12)
     per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, kinds, lit,
                                     (xi6, xi7) + tuple(xis[7:]), 13)
-    sums, alpha, col = _components(g, (coeff_image, light_image), address, per_light, info.k,
-                                   pack, col)
+    if strips is None:
+        sums, alpha, col = _components(g, (coeff_image, light_image), address, per_light,
+                                       info.k, pack, col)
+    else:
+        sums, alpha, col, sides = _components(g, (coeff_image, light_image, next_image),
+                                              address, per_light, info.k, pack, col)
+        sums = _coloured(g, gin, sums, places, sides, strips, info.levels, col)
+        col += 5
     _shaders(g, sums, alpha, denom, lit, col)
     _replace_old(name, group)
     return group

@@ -45,6 +45,24 @@ def _mark_edited(self, context):
 def _palette_changed(self, context):
     if not _loading:
         self.id_data.clothbake.cloth_edited = True
+        _recolour(self.id_data)
+
+
+def _colour_changed(self, context):
+    if not _loading:
+        self.cloth_edited = True
+        _recolour(self.id_data)
+
+
+def _recolour(obj):
+    """An applied colour-free material follows the cloth's colours at once
+    (material_colours.refresh: strip pixels and group inputs, no program
+    run). A colour field's update must not raise: a failure is printed."""
+    from . import material_colours
+    try:
+        material_colours.refresh(obj)
+    except Exception as e:  # noqa: BLE001 (an update callback has no one to raise to)
+        print(f"clothbake: the material of '{obj.name}' could not be recoloured: {e}")
 
 
 def _cloth_path_changed(self, context):
@@ -99,7 +117,8 @@ class ClothbakeWifColor(bpy.types.PropertyGroup):
     __annotations__ = {
         "color": bpy.props.FloatVectorProperty(
             name="Colour", subtype="COLOR", size=3, min=0.0, max=1.0, update=_palette_changed,
-            description="Diffuse albedo (linear RGB) of every thread of this colour"),
+            description="Diffuse albedo (linear RGB) of every thread of this colour; an applied "
+                        "colour-free material follows at once"),
         "loaded": bpy.props.FloatVectorProperty(
             name="Loaded colour", size=3, options={"HIDDEN"},
             description="The colour as the draft gave it"),
@@ -127,8 +146,9 @@ def _yarn(family, default_color):
                                          "Full height of the yarn's cross-section"),
         f"{family}_color": bpy.props.FloatVectorProperty(
             name=f"{F} colour", subtype="COLOR", size=3, min=0.0, max=1.0,
-            default=default_color, update=_mark_edited,
-            description="Diffuse albedo of the fibres, linear RGB"),
+            default=default_color, update=_colour_changed,
+            description="Diffuse albedo of the fibres, linear RGB; an applied colour-free "
+                        "material follows at once"),
         f"{family}_twist_deg": _float(f"{F} ply twist (deg)", 28.0, 0.0, 89.0,
                                       "Angle of the fibres to the yarn axis",
                                       step=100, precision=1),
@@ -235,6 +255,7 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
             self.cloth_edited = False
         finally:
             _loading = False
+        _recolour(self.id_data)
 
     def load_cloth_file(self, path):
         global _loading
@@ -308,6 +329,7 @@ class ClothbakeObjectSettings(bpy.types.PropertyGroup):
             self.wif_loaded = json.dumps(self.fields())
         finally:
             _loading = False
+        _recolour(self.id_data)
         return ""
 
     def draft(self):

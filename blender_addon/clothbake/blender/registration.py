@@ -3,7 +3,7 @@ import importlib
 
 # Modules that define CLASSES (and optionally register_extra/unregister_extra).
 _MODULES = ("prefs", "props", "operators_scene", "operators_bake", "operators_compare",
-            "operators_material", "wif_preview", "panels")
+            "operators_material", "wif_preview", "material_colours", "panels")
 
 
 def _modules():

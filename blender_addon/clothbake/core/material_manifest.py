@@ -1,6 +1,8 @@
 """Reading a cloth material folder's manifest.json (docs/material-format.md),
 checked as far as Blender needs it, beside the lookup's reader
-(core/manifest.py). The ranges are the program's (core/defaults.py)."""
+(core/manifest.py). The ranges are the program's (core/defaults.py).
+Versions 1 and 2: version 1 is read as parts "rgb"; version 2's colour-free
+parts ("specular-warp-weft") bring the cloth's threads and its colours."""
 import json
 import math
 import os
@@ -12,6 +14,11 @@ from .errors import ClothbakeError
 FORMAT = "clothbake-material"
 HORIZON = "hemi-octahedral-horizon"
 SQUARE = "hemi-octahedral"
+RGB = "rgb"
+SWF = "specular-warp-weft"   # colour-free parts: kNNNN.specular, .warp, .weft, .warp_next, .weft_next
+VERSIONS = (1, 2)
+FAMILIES = ("warp", "weft")
+SWF_CHANNELS = ("specular", "warp", "weft", "warp_next", "weft_next")
 
 
 @dataclass
@@ -30,6 +37,15 @@ class MaterialInfo:
     depth_scale: float    # texture mm per world unit along the normal over along the surface
     name: str             # the cloth's name ("" if none)
     cloth_hash: str       # the cloth spec's hash ("" if none)
+    parts: str = RGB      # RGB, or SWF (colour-free: the colours are given at render time)
+    # SWF only, per family ("warp", "weft"):
+    centres_mm: dict = None   # each thread's centre over one repeat, mm (x: warp, y: weft)
+    colors: dict = None       # the baked-with colours: {"color": [r, g, b], "colors": [...]}
+
+    @property
+    def channels(self):
+        """The channel suffixes of a coefficient component."""
+        return SWF_CHANNELS if self.parts == SWF else ("R", "G", "B")
 
 
 def _field(m, key, kind, path):
@@ -85,15 +101,12 @@ def read_material(folder):
     if not isinstance(m, dict) or m.get("format") != FORMAT:
         raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
     version = _field(m, "version", int, path)
-    if version not in (1, 2):
-        raise ClothbakeError("must be 1 or 2", path, "version")
-    # Version 2 adds colour-free parts (docs/material-format.md); the add-on
-    # applies RGB materials only, and Bake material asks for them.
-    parts = m.get("parts", "rgb") if version == 2 else "rgb"
-    if parts != "rgb":
-        raise ClothbakeError(f"is \"{parts}\": colour-free materials are not applied in "
-                             "Blender yet; bake this one with `clothbake material ... --parts "
-                             "rgb` (Bake material in the panel does)", path, "parts")
+    if version not in VERSIONS:
+        raise ClothbakeError(f"must be {' or '.join(map(str, VERSIONS))} (a newer program wrote "
+                             "this material? update the add-on)", path, "version")
+    parts = RGB if version == 1 else m.get("parts", RGB)
+    if parts not in (RGB, SWF):
+        raise ClothbakeError(f"must be \"{RGB}\" or \"{SWF}\"", path, "parts")
     texels = _field(m, "texels", int, path)
     lo, hi = MATERIAL_TEXELS_RANGE
     if texels < lo or texels > hi or texels & (texels - 1):
@@ -126,8 +139,58 @@ def read_material(folder):
         raise ClothbakeError("must hold depth_scale", path, "optics")
     _check_files(m.get("files"), levels, folder, path)
     cloth = m.get("cloth") if isinstance(m.get("cloth"), dict) else {}
+    repeat = [float(x) for x in repeat]
+    centres = colors = None
+    if parts == SWF:
+        centres = _thread_centres(cloth, repeat, path)
+        colors = _baked_colours(cloth, path)
     return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
-                        [float(x) for x in repeat], float(optics["depth_scale"]),
-                        str(cloth.get("name", "")), str(cloth.get("hash", "")))
+                        repeat, float(optics["depth_scale"]),
+                        str(cloth.get("name", "")), str(cloth.get("hash", "")), parts,
+                        centres, colors)
+
+
+def _rgb(value):
+    return isinstance(value, list) and len(value) == 3 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) for c in value)
+
+
+def _thread_centres(cloth, repeat, path):
+    """cloth.threads: per family, the threads' centres, ascending in
+    [0, repeat) (x for the warp, y for the weft)."""
+    threads = cloth.get("threads")
+    out = {}
+    for axis, family in enumerate(FAMILIES):
+        field = f"cloth.threads.{family}.centres_mm"
+        entry = threads.get(family) if isinstance(threads, dict) else None
+        c = entry.get("centres_mm") if isinstance(entry, dict) else None
+        if not isinstance(c, list) or not c or not all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in c):
+            raise ClothbakeError("must be a non-empty array of numbers (a colour-free "
+                                 "material's thread centres)", path, field)
+        if any(not 0 <= x < repeat[axis] * (1 + 1e-6) for x in c) or \
+                any(b <= a for a, b in zip(c, c[1:])):
+            raise ClothbakeError(f"must ascend within the repeat (0..{repeat[axis]:g} mm)",
+                                 path, field)
+        out[family] = [float(x) for x in c]
+    return out
+
+
+def _baked_colours(cloth, path):
+    """cloth.colors: per family its colour and per-thread colours (linear)."""
+    given = cloth.get("colors")
+    out = {}
+    for family in FAMILIES:
+        entry = given.get(family) if isinstance(given, dict) else None
+        if not isinstance(entry, dict) or not _rgb(entry.get("color")):
+            raise ClothbakeError("must be an array of 3 numbers", path,
+                                 f"cloth.colors.{family}.color")
+        seq = entry.get("colors", [])
+        if not isinstance(seq, list) or not all(_rgb(c) for c in seq):
+            raise ClothbakeError("must be an array of colours (3 numbers each)", path,
+                                 f"cloth.colors.{family}.colors")
+        out[family] = {"color": [float(x) for x in entry["color"]],
+                       "colors": [[float(x) for x in c] for c in seq]}
+    return out
 
 

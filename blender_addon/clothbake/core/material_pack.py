@@ -19,6 +19,12 @@ coefficients (`coefficients.exr`, half RGBA):
     tile + 1 + floor(t - 0.5 + xi) for xi in [0, 1) is, on average over xi,
     the periodic bilinear blend clothbake's lookup makes.
     RGB = C_L(x, v, k); A = alpha A_L(x, v) (in every component's tile).
+    A colour-free material (parts "specular-warp-weft") packs its own
+    parts (S, W, F) where an RGB one packs (R, G, B), and its next parts
+    into `coefficients_next.exr` at the same addresses: (Wn, Fn, plus_x,
+    plus_y), plus_x / plus_y (0 / 1, the same over a view node's tile)
+    whether the view node's ray runs toward + x / + y, so that its next
+    colours are the owner + 1's (core/yarn_colours.next_sides).
 
 light factors (`light_factors.exr`, float RGBA):
     F(v, n, k) resampled from the material's light nodes (Catmull-Rom, as
@@ -48,9 +54,10 @@ import numpy as np
 from .defaults import folder_siblings
 from .directions import hemi_oct_decode, hemi_oct_encode, horizon_from_grid, horizon_to_grid
 from .errors import ClothbakeError
+from .yarn_colours import next_sides
 # The material folder's reader; imported here too, as the pack's callers
 # (and tests) know it by material_pack.read_material.
-from .material_manifest import (FORMAT, HORIZON, SQUARE, MaterialInfo,  # noqa: F401
+from .material_manifest import (FORMAT, HORIZON, SQUARE, SWF, MaterialInfo,  # noqa: F401
                                 is_material_folder, read_material)
 
 PACK_VERSION = 4
@@ -124,6 +131,7 @@ class Pack:
     light_width: int
     light_height: int
     groups: int           # ceil(rank / 4)
+    next_coefficients: str = ""   # colour-free: path of coefficients_next.exr, else ""
 
 
 def level_offset(texels, k, level):
@@ -211,20 +219,23 @@ def _layout(info, rank, dense):
     q = dense + 2
     return Pack(folder, os.path.join(folder, "coefficients.exr"),
                 os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
-                per_row, band, groups * info.k * 2 * q, 2 * info.k * q, groups)
+                per_row, band, groups * info.k * 2 * q, 2 * info.k * q, groups,
+                os.path.join(folder, "coefficients_next.exr") if info.parts == SWF else "")
 
 
 def _is_cached(pack, key):
     try:
         with open(os.path.join(pack.folder, "pack.json")) as f:
             return json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
-                os.path.isfile(pack.light_factors)
+                os.path.isfile(pack.light_factors) and \
+                (not pack.next_coefficients or os.path.isfile(pack.next_coefficients))
     except (OSError, ValueError):
         return False
 
 
-def _place_level(coeff, info, pack, level):
-    """Level `level`'s tiles of every kept component into `coeff`."""
+def _place_level(coeff, info, pack, level, coeff_next=None):
+    """Level `level`'s tiles of every kept component into `coeff` (and a
+    colour-free material's next parts into `coeff_next`)."""
     k, s0 = info.k, info.texels
     path = os.path.join(info.folder, info.manifest["files"]["levels"][level])
     px, names = _read_exr(path, f"level {level}")
@@ -237,14 +248,19 @@ def _place_level(coeff, info, pack, level):
     alpha = px[..., _channel(names, "A", path)]
     # (2K rows of tiles, S, K columns, S) -> [row, col, ty, tx], rows top-down in the file
     a_t = alpha.reshape(2 * k, s, k, s).transpose(0, 2, 1, 3)
+    # (2K, K, S, S, 2): each view node's next sides over its whole tile
+    sides = np.broadcast_to(next_sides(k)[:, :, None, None, :], (2 * k, k, s, s, 2))
     for comp in range(pack.rank):
+        channels = info.channels
         if comp < info.max_rank:
-            rgb = np.stack([px[..., _channel(names, f"k{comp:04d}.{c}", path)]
-                            for c in "RGB"], -1)
+            parts = np.stack([px[..., _channel(names, f"k{comp:04d}.{c}", path)]
+                              for c in channels], -1)
         else:
-            rgb = np.zeros(px.shape[:2] + (3,), np.float32)
-        c_t = rgb.reshape(2 * k, s, k, s, 3).transpose(0, 2, 1, 3, 4)
-        tile = np.concatenate([c_t, a_t[..., None]], -1)       # (2K, K, S, S, 4)
+            parts = np.zeros(px.shape[:2] + (len(channels),), np.float32)
+        c_t = parts.reshape(2 * k, s, k, s, len(channels)).transpose(0, 2, 1, 3, 4)
+        tile = np.concatenate([c_t[..., :3], a_t[..., None]], -1)       # (2K, K, S, S, 4)
+        if coeff_next is not None:
+            tile = np.concatenate([tile, c_t[..., 3:5], sides], -1)     # + (Wn, Fn, px, py)
         # texel (tx, ty) with ty counted from the repeat's y = 0 (the
         # file's row order inside a tile), placed with the gutter
         padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
@@ -252,7 +268,9 @@ def _place_level(coeff, info, pack, level):
             for col in range(k):
                 x = ((comp % pack.per_row) * k + col) * p
                 y = (comp // pack.per_row) * pack.band + y0 + row * p
-                coeff[y:y + p, x:x + p] = padded[row, col]
+                coeff[y:y + p, x:x + p] = padded[row, col, ..., :4]
+                if coeff_next is not None:
+                    coeff_next[y:y + p, x:x + p] = padded[row, col, ..., 4:]
     # The tile's row ty is texel y = ty (y up in Blender's image space), so
     # the array is stored bottom-up as it is: nothing to flip per tile.
 
@@ -288,7 +306,7 @@ def _light_factor_image(info, pack):
     return lights
 
 
-def _write_pack(pack, key, coeff, lights):
+def _write_pack(pack, key, coeff, lights, coeff_next=None):
     """The pack's folder, written as a temporary sibling and renamed over
     the old one (the program's NAME.tmp-PID / NAME.old-PID names)."""
     folder = pack.folder
@@ -298,6 +316,8 @@ def _write_pack(pack, key, coeff, lights):
     try:
         _write_exr(os.path.join(tmp, "coefficients.exr"), coeff, "half")
         _write_exr(os.path.join(tmp, "light_factors.exr"), lights, "float")
+        if coeff_next is not None:
+            _write_exr(os.path.join(tmp, "coefficients_next.exr"), coeff_next, "half")
         with open(os.path.join(tmp, "pack.json"), "w") as fh:
             json.dump({"key": key, "rank": pack.rank, "dense": pack.dense, "width": pack.width,
                        "height": pack.height, "per_row": pack.per_row, "band": pack.band,
@@ -322,14 +342,15 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     if _is_cached(pack, key):
         return pack
     coeff = np.zeros((pack.height, pack.width, 4), np.float32)
+    coeff_next = np.zeros_like(coeff) if pack.next_coefficients else None
     for level in range(info.levels):
         if progress:
             progress(level / (info.levels + 1))
-        _place_level(coeff, info, pack, level)
+        _place_level(coeff, info, pack, level, coeff_next)
     lights = _light_factor_image(info, pack)
     if progress:
         progress(info.levels / (info.levels + 1))
-    _write_pack(pack, key, coeff, lights)
+    _write_pack(pack, key, coeff, lights, coeff_next)
     if progress:
         progress(1.0)
     return pack

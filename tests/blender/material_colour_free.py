@@ -1,0 +1,208 @@
+"""Headless Blender 3.4 test of a colour-free material (docs/material-format.md,
+"Colour-free parts") in Blender: the paper scene's cloth baked once with
+--parts specular-warp-weft, rendered in Cycles in the scene's own colours and
+in a recolouring (weft recoloured, a 4-end warp stripe), each against
+`clothbake lookup-render` of that scene with the same material, within the
+bound blender.material_routes uses (3 standard deviations of the two
+renders' noise, from two seeds each, plus 0.01 systematic); then the weft
+colour changed in the panel's property: the applied material follows with
+no re-apply (the render changes, and matches lookup-render of a scene in
+that colour), and the update's time for a 48-thread warp stripe and a
+480-thread weft sequence.
+
+    blender -b --factory-startup --python-exit-code 1 -P material_colour_free.py -- \\
+        CLOTHBAKE_EXE SOURCE_DIR WORK_DIR [MATERIAL_DIR]
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from addon_check import CLOTHBAKE, SOURCE, TMP, argv, check, enable_addon, run_checks  # noqa
+
+import OpenImageIO as oiio  # noqa: E402
+
+SPP = 32
+SYS = 0.01      # blender.material_routes' systematic part
+PAPER = os.path.join(SOURCE, "testscenes", "paper")
+
+
+def run(args):
+    p = subprocess.run([CLOTHBAKE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True)
+    if p.returncode != 0:
+        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
+    return p.stdout
+
+
+def pixels(path):
+    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
+
+
+def rel_rmse(a, b):
+    a, b = a[..., :3], b[..., :3]
+    return float(np.sqrt(((a - b) ** 2).mean()) / max(1e-12, a.mean()))
+
+
+def render(path, seed):
+    scene = bpy.context.scene
+    scene.cycles.seed = seed
+    bpy.ops.render.render(write_still=False)
+    bpy.data.images["Render Result"].save_render(path, scene=scene)
+    return pixels(path)
+
+
+def blocks(image, k=4):
+    """Means over k x k pixel blocks (material_routes.blocks)."""
+    h, w = image.shape[0] // k * k, image.shape[1] // k * k
+    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
+
+
+def pair(name):
+    """A render, its noise sigma and its noise over 4 x 4 blocks (two seeds)."""
+    t = time.perf_counter()
+    a = render(os.path.join(TMP, f"{name}_s1.exr"), 1)
+    b = render(os.path.join(TMP, f"{name}_s2.exr"), 2)
+    print(f"{name}: two renders in {time.perf_counter() - t:.1f} s")
+    return a, rel_rmse(a, b) / math.sqrt(2.0), rel_rmse(blocks(a), blocks(b)) / math.sqrt(2.0)
+
+
+def compare(what, noisy, reference):
+    """Pixels and 4 x 4 blocks, each within 3 standard deviations of the
+    difference (lookup-render's noise taken as the render's) plus SYS."""
+    image, sigma, sigma4 = noisy
+    for label, a, b, s in (("pixels", reference, image, sigma),
+                           ("4x4 blocks", blocks(reference), blocks(image), sigma4)):
+        err = rel_rmse(a, b)
+        bound = 3.0 * math.hypot(s, s) + SYS
+        check(err <= bound, f"{what}, {label}: relative RMSE {err:.4f} <= {bound:.4f} "
+                            f"(noise {s:.4f}, systematic {SYS})")
+
+
+def scene_with(name, warp=None, weft=None):
+    """The paper scene in its folder's copy, the cloth's colours replaced."""
+    folder = os.path.join(TMP, name)
+    os.makedirs(folder, exist_ok=True)
+    for f in ("scene.json", "cloth.obj"):
+        shutil.copy(os.path.join(PAPER, f), folder)
+    with open(os.path.join(PAPER, "cloth.json")) as f:
+        cloth = json.load(f)
+    for family, value in (("warp", warp), ("weft", weft)):
+        if value is None:
+            continue
+        yarn = cloth.setdefault(family, {})
+        if isinstance(value[0], list):
+            yarn["colors"] = value
+        else:
+            yarn["color"] = value
+    with open(os.path.join(folder, "cloth.json"), "w") as f:
+        json.dump(cloth, f, indent=1)
+    return os.path.join(folder, "scene.json")
+
+
+def reference(scene_path, material, name):
+    out = os.path.join(TMP, f"ref_{name}.exr")
+    run(["lookup-render", scene_path, material, "-o", out, "--spp", "64", "--quiet"])
+    return pixels(out)
+
+
+def save_png(image, path):
+    rgb = np.clip(image[..., :3], 0, 1) ** (1 / 2.2)
+    buf = oiio.ImageBuf(oiio.ImageSpec(rgb.shape[1], rgb.shape[0], 3, oiio.UINT8))
+    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(rgb.astype(np.float32)))
+    buf.write(path)
+
+
+def main():
+    enable_addon()
+    from clothbake.blender import material_colours
+    from clothbake.blender.headless import bilinear_patches
+    from clothbake.blender.material_apply import apply_material
+    from clothbake.blender.scene_import import import_scene
+    from clothbake.core.material_pack import read_material
+
+    material = argv[3] if len(argv) > 3 else os.path.join(TMP, "material")
+    if len(argv) <= 3:
+        run(["material", os.path.join(PAPER, "scene.json"), "-o", material, "--texels", "16",
+             "--directions", "8", "--light-directions", "6", "--spp", "2",
+             "--parts", "specular-warp-weft", "--quiet"])
+    info = read_material(material)
+    check(info.parts == "specular-warp-weft", f"the material is colour-free ({info.parts})")
+
+    stripe = [[0.7, 0.1, 0.1], [0.7, 0.1, 0.1], [0.1, 0.5, 0.1], [0.9, 0.8, 0.2]]
+    cases = [("own", scene_with("own")),
+             ("recoloured", scene_with("recoloured", warp=stripe, weft=[0.1, 0.2, 0.6]))]
+    sheet = []
+    for name, path in cases:
+        ref = reference(path, material, name)
+        (obj,) = import_scene(path, clear=True, samples=SPP)
+        bpy.context.scene.cycles.use_denoising = False
+        bilinear_patches(obj)
+        _, notes = apply_material(obj, material, route="exact")
+        print(name, "notes:", notes)
+        got = pair(name)
+        compare(f"Cycles, {name} colours, against lookup-render", got, ref)
+        save_png(got[0], os.path.join(TMP, f"{name}.png"))
+        save_png(ref, os.path.join(TMP, f"ref_{name}.png"))
+        sheet += [ref, got[0]]
+
+    # The weft colour changed in the panel, no re-apply: the render follows.
+    before = sheet[-1]
+    obj.clothbake.weft_color = (0.6, 0.5, 0.1)
+    print(f"weft colour update: {material_colours.last_refresh['seconds'] * 1e3:.2f} ms")
+    ref = reference(scene_with("weft_changed", warp=stripe, weft=[0.6, 0.5, 0.1]), material,
+                    "weft_changed")
+    got = pair("weft_changed")
+    change = rel_rmse(before, got[0])
+    check(change > 10 * got[1], f"the weft colour's change changes the render (relative "
+                                f"{change:.4f}, noise {got[1]:.4f})")
+    compare("Cycles after the weft colour changed, against lookup-render", got, ref)
+    save_png(got[0], os.path.join(TMP, "weft_changed.png"))
+    sheet += [ref, got[0]]
+
+    # Eevee (the GPU textures of the strips and the inputs) follows too.
+    from clothbake.blender.headless import use_eevee
+    scene = bpy.context.scene
+    use_eevee(scene, 16)
+    e1 = render(os.path.join(TMP, "eevee_before.exr"), 1)
+    obj.clothbake.weft_color = (0.1, 0.2, 0.6)
+    e2 = render(os.path.join(TMP, "eevee_after.exr"), 1)
+    e_ref = sheet[2]       # lookup-render in weft (0.1, 0.2, 0.6)
+    moved = rel_rmse(e1, e2)
+    check(moved > 0.3, f"Eevee: the weft colour's change changes the render ({moved:.4f})")
+    err = rel_rmse(blocks(e_ref), blocks(e2))
+    check(err < 0.05, f"Eevee after the change against lookup-render in that colour, 4x4 "
+                      f"blocks: {err:.4f} < 0.05")
+    save_png(np.concatenate([e1, e2], 1), os.path.join(TMP, "eevee_change.png"))
+    scene.render.engine = "CYCLES"
+    row = np.concatenate(sheet, 1)
+    save_png(row, os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP),
+                               "material_colour_free.png"))
+
+    # The update's cost: a 48-thread warp stripe, a 480-thread weft sequence.
+    rng = np.random.default_rng(1)
+    for label, family, n in (("48-thread warp stripe", "warp", 48),
+                             ("480-thread weft sequence", "weft", 480)):
+        base = json.loads(obj.clothbake.cloth_base)
+        for f in ("warp", "weft"):
+            base.get(f, {}).pop("colors", None)
+        base.setdefault(family, {})["colors"] = rng.uniform(0, 1, (n, 3)).round(3).tolist()
+        obj.clothbake.cloth_base = json.dumps(base)
+        apply_material(obj, material, route="exact")      # a new length: q changes
+        times = []
+        for i in range(5):
+            obj.clothbake.warp_color = (0.1 * i, 0.3, 0.2)
+            times.append(material_colours.last_refresh["seconds"])
+        print(f"update for a {label}: {1e3 * min(times):.2f} ms (min of 5), "
+              f"{1e3 * max(times):.2f} ms max")
+        check(max(times) < 0.1, f"the update for a {label} takes under 100 ms")
+
+
+run_checks(main)
