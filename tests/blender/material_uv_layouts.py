@@ -301,7 +301,7 @@ def main():
     with open(base_path, "w") as f:
         json.dump(base, f, indent=1)
     material = os.path.join(TMP, "material")
-    run(["material", base_path, "-o", material, "--parts", "rgb", "--texels", "16", "--directions", "8",
+    run(["material", base_path, "-o", material, "--texels", "16", "--directions", "8",
          "--light-directions", "6", "--spp", "1", "--quiet"])
 
     # The imported cloth keeps its settings (cloth, repeats, thickness);

@@ -62,10 +62,10 @@ def material_command(context):
     scene_path = _material_scene_file(context.scene, folder)
     if not settings.material_dir:
         settings.material_dir = folder  # kept when the scene file changes
-    # RGB parts: the add-on does not yet apply colour-free materials
-    # (docs/material-format.md, "Colour-free parts").
+    # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
+    # colours recolour the applied material with no bake (docs/material.md).
     args = [program, "material", scene_path, "--object", str(index), "-o", folder,
-            *material_arguments(values), "--parts", "rgb", "--threads", str(prefs.threads(context))]
+            *material_arguments(values), "--parts", "auto", "--threads", str(prefs.threads(context))]
     return args, folder
 
 
