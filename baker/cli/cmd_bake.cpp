@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/shard_option.h"
 #include "core/util/hex.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
@@ -31,7 +32,7 @@ namespace clothbake::cli {
 namespace {
 
 struct BakeArgs {
-  std::string scene, out_dir, quads, map = "hemi-octahedral";
+  std::string scene, out_dir, quads, shard, map = "hemi-octahedral";
   BakeSettings settings;
   int threads = 0;
   double memory_gib = 0.0;
@@ -60,6 +61,9 @@ std::string mib(uint64_t bytes) {
 /// The settings from the values CLI11 leaves as text.
 void finish_bake_args(BakeArgs& args) {
   parse_quads(args.quads, args.settings);
+  const ShardOption shard = parse_shard(args.shard, "--shard");
+  args.settings.shard_index = shard.index;
+  args.settings.shard_count = shard.count;
   args.settings.map =
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
 }
@@ -72,7 +76,8 @@ const char* bake_flag(const std::string& setting) {
       {"texels", "--texels"},
       {"spp", "--spp"},
       {"texels_per_pixel", "--texels-per-pixel"},
-      {"quads", "--quads"}};
+      {"quads", "--quads"},
+      {"shard", "--shard"}};
   for (const auto& [name, flag] : k_flags)
     if (setting == name) return flag;
   return nullptr;
@@ -285,6 +290,8 @@ void register_bake_command(CLI::App& app, Action action) {
                   "layout of the direction nodes (docs/lookup-format.md)")
       ->check(CLI::IsMember({"polar", "hemi-octahedral"}));
   cmd->add_option("--quads", args->quads, "bake quads A-B only (inclusive), for merge");
+  cmd->add_option("--shard", args->shard,
+                  "I/N: bake part I (from 1) of N, every N-th quad, for merge (docs/farm.md)");
   cmd->add_option("--seed", args->settings.seed, "seed of the sub-texel jitter");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));

@@ -16,9 +16,11 @@
 
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
+#include "cli/shard_option.h"
 #include "cli/thread_limit.h"
 #include "core/material/material_bake.h"
 #include "core/material/material_probe.h"
+#include "core/material/material_shard.h"
 #include "core/material/material_source.h"
 #include "core/scene/scene_checks.h"
 #include "core/util/error.h"
@@ -46,6 +48,7 @@ struct MaterialArgs {
   bool quiet = false;
   bool estimate = false;  ///< time a probe of the work, print the estimate as JSON; write nothing
   std::string parts = "auto";  ///< auto: colour-free parts where possible
+  std::string shard;           ///< "I/N": part I of N (material_shard.h), for merge
 };
 
 /// The input read: a scene's object (the scene kept alive for its volume),
@@ -100,6 +103,14 @@ void run_material(const MaterialArgs& args) {
   MaterialSettings settings = args.settings;
   if (args.seed >= 0) settings.seed = uint64_t(args.seed);
   check_material_settings(settings);  // CLI11 checked each; this is the core's word
+  const ShardOption shard_option = parse_shard(args.shard, "--shard");
+  const MaterialShard shard{shard_option.index, shard_option.count};
+  try {
+    check_material_shard(shard, MaterialLayout::of(settings).view_count());
+  } catch (const InputError& e) {
+    throw InputError("--shard", e.message() + " (--directions " +
+                                    std::to_string(settings.directions) + ")");
+  }
   io::check_folder_parent(args.out_dir, "-o");
   io::check_folder_destination(args.out_dir, "material");
   const MaterialInput in = read_input(args, budget);
@@ -125,7 +136,8 @@ void run_material(const MaterialArgs& args) {
   ClothMaterial material = bake_material(*src.volume, *src.shader, src.optics, settings, budget,
                                          [&](double f) { bar.update(f); }, &stats,
                                          src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth
-                                                                                      : nullptr);
+                                                                                      : nullptr,
+                                         shard);
   if (material.colour_parts()) material.set_cloth(src.cloth, src.palette);
   bar.finish();
   const double seconds = seconds_since(t0);
@@ -207,6 +219,9 @@ void register_material_command(CLI::App& app, Action action) {
                   "auto: colour-free where possible (fibre shading, a cloth made from a spec)")
       ->check(CLI::IsMember({"auto", "rgb", "specular-warp-weft"}))
       ->capture_default_str();
+  cmd->add_option("--shard", args->shard,
+                  "I/N: bake part I (from 1) of N, a share of the view nodes, for "
+                  "'clothbake merge' (docs/farm.md)");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--estimate", args->estimate,
                 "check the inputs, time a probe of the work, print the estimate as JSON; write "

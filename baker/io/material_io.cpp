@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/material/material_bake.h"
+#include "core/material/material_shard.h"
 #include "core/util/error.h"
 #include "core/util/hex.h"
 #include "io/cloth_spec_json.h"
@@ -125,6 +126,10 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   json levels = json::array();
   for (int l = 0; l < m.levels(); ++l) levels.push_back(level_file(l));
   j["files"] = {{"levels", levels}, {"light_factors", k_light_file}};
+  if (!m.shard.whole())
+    j["shard"] = {{"part", m.shard.index + 1},
+                  {"of", m.shard.count},
+                  {"views", material_shard_views(m.view_grid, m.shard)}};
   j["bake"] = {{"rays", info.stats.rays},
                {"march_samples", info.stats.march_samples},
                {"fiber_evaluations", info.stats.fiber_evaluations}};
@@ -261,6 +266,37 @@ void read_table_shape(const JsonObject& top, uint64_t memory_budget, ClothMateri
   }
 }
 
+/// A part of a sharded bake (material_shard.h): its number, count and view
+/// nodes, which must be the ones that part bakes. Refused unless `parts`
+/// accepts parts: only merge reads them.
+void read_shard(const JsonObject& top, SharedParts parts, ClothMaterial& m) {
+  if (!top.has("shard")) return;
+  const JsonObject shard = top.object("shard");
+  int part = 0, of = 0;
+  shard.read("part", part);
+  shard.read("of", of);
+  m.shard = MaterialShard{part - 1, of};
+  try {
+    check_material_shard(m.shard, m.view_count());
+  } catch (const InputError& e) {
+    shard.fail(shard.field("part"), e.message());
+  }
+  if (m.shard.whole()) shard.fail(shard.field("of"), "must be at least 2 (a part of a sharded bake)");
+  if (!shard.has("views")) shard.fail(shard.field("views"), "is missing");
+  const json& listed = shard.raw("views");
+  std::vector<int> views;
+  if (listed.is_array())
+    for (const json& v : listed) views.push_back(v.is_number_integer() ? v.get<int>() : -1);
+  if (views != material_shard_views(m.view_grid, m.shard))
+    shard.fail(shard.field("views"), "are not the view nodes part " + std::to_string(part) +
+                                         " of " + std::to_string(of) + " bakes");
+  if (parts == SharedParts::Refuse)
+    shard.fail(shard.field("part"),
+               "this folder is part " + std::to_string(part) + " of " + std::to_string(of) +
+                   " of a sharded bake (clothbake material --shard): join the parts with "
+                   "'clothbake merge PART... -o DIR' first");
+}
+
 /// The level atlases and the light factors, into the allocated table.
 void read_images(const std::string& dir, ClothMaterial& m) {
   const MaterialLayout layout = m.layout();
@@ -330,7 +366,8 @@ void write_material(const std::string& dir, const ClothMaterial& m, const Materi
 }
 
 // Every manifest field checked before any image is read.
-ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t memory_budget) {
+ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t memory_budget,
+                            SharedParts parts) {
   const std::string manifest_path = (fs::path(dir) / k_folder_manifest_name).string();
   const json doc = parse_json_text(read_text_file(manifest_path, "a JSON file"), manifest_path);
   const JsonObject top(doc, "", manifest_path);
@@ -353,6 +390,13 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
   m.light_grid.k = m.settings.light_directions;
   m.light_grid.map = m.settings.light_map;
   read_table_shape(top, memory_budget, m);
+  read_shard(top, parts, m);
+  if (top.has("bake")) {
+    const JsonObject bake = top.object("bake");
+    bake.read("rays", info.stats.rays);
+    bake.read("march_samples", info.stats.march_samples);
+    bake.read("fiber_evaluations", info.stats.fiber_evaluations);
+  }
   if (m.colour_parts()) {
     for (const char* key : {"spec", "colors"})
       if (!cloth.has(key)) cloth.fail(cloth.field(key), "is missing (the parts are colour-free)");

@@ -38,10 +38,15 @@ bool is_material_folder(const std::string& dir);
 void write_material(const std::string& dir, const ClothMaterial& material,
                     const MaterialInfo& info);
 
+/// Whether a reader takes one part of a sharded bake (material_shard.h):
+/// only merge does; anything that renders needs the whole material.
+enum class SharedParts { Refuse, Accept };
+
 /// Reads and checks a material folder. A manifest whose table would not fit
 /// `memory_budget_bytes` (as floats in memory) is refused before anything
 /// is allocated.
 ClothMaterial read_material(const std::string& dir, MaterialInfo& info,
-                            uint64_t memory_budget_bytes = uint64_t(1) << 40);
+                            uint64_t memory_budget_bytes = uint64_t(1) << 40,
+                            SharedParts parts = SharedParts::Refuse);
 
 }  // namespace clothbake::io

@@ -25,6 +25,11 @@ struct BakeSettings {
   float texels_per_pixel = 1.5f;  ///< adaptive: texels per projected pixel along a quad edge
   int min_texels = 4, max_texels = 1024;  ///< adaptive: bounds on texels per quad side
   int quad_begin = 0, quad_end = -1;      ///< bake quads [begin, end) only (-1: to the last)
+  /// Of those, quads q with q mod shard_count == shard_index only: part
+  /// shard_index + 1 of shard_count (--shard I/N). Every part shares the
+  /// whole bake's layout, so the parts merge into it (lookup_merge.h);
+  /// dealing quads in turn spreads the camera's near and far ones.
+  int shard_index = 0, shard_count = 1;
   uint64_t seed = 1;
 };
 

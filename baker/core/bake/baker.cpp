@@ -30,6 +30,9 @@ void check_settings(const BakeSettings& s) {
                                 std::to_string(k_max_bake_spp) + "], got " + std::to_string(s.spp));
   if (!(s.texels_per_pixel > 0.0f) || s.texels_per_pixel > k_max_texels_per_pixel)
     throw InputError("texels_per_pixel", "must be in (0, 64]");
+  if (s.shard_count < 1 || s.shard_index < 0 || s.shard_index >= s.shard_count)
+    throw InputError("shard", "part " + std::to_string(s.shard_index + 1) + " of " +
+                                  std::to_string(s.shard_count) + " does not exist");
 }
 
 /// The view direction, in the quad's frame, that `node` is baked from.
@@ -143,6 +146,9 @@ BakePlan plan_bake(const ClothScene& prepared, const BakeSettings& s) {
                                     std::to_string(s.quad_end - 1) + " selects no quad of the " +
                                     std::to_string(n_quads) + " (numbered 0-" +
                                     std::to_string(n_quads - 1) + ")");
+    const auto outside = [&](int q) {
+      return q < s.quad_begin || q >= end || q % s.shard_count != s.shard_index;
+    };
     for (int q = 0; q < n_quads; ++q) {
       const QuadPatch& patch = prepared.patch(o, q);
       plan.full_nodes += nodes;
@@ -160,7 +166,7 @@ BakePlan plan_bake(const ClothScene& prepared, const BakeSettings& s) {
       // (--quads) of one scene share it and merge into the whole bake; only
       // the flags are limited to the subset.
       t.sizes[q] = size;
-      if (q < s.quad_begin || q >= end) continue;
+      if (outside(q)) continue;
       int baked_nodes = 0;
       for (int n = 0; n < nodes; ++n) baked_nodes += flags[n];
       plan.baked_nodes += baked_nodes;
@@ -172,7 +178,7 @@ BakePlan plan_bake(const ClothScene& prepared, const BakeSettings& s) {
     t.pack(wanted);
     t.baked = wanted;
     for (int q = 0; q < n_quads; ++q)
-      if (q < s.quad_begin || q >= end)
+      if (outside(q))
         std::fill_n(t.baked.begin() + ptrdiff_t(q) * nodes, nodes, uint8_t(0));
     plan.objects.push_back(std::move(t));
   }

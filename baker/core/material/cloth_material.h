@@ -55,6 +55,9 @@ class ClothMaterial {
   YarnColours colours;
   std::shared_ptr<const ThreadLayout> warp_threads, weft_threads;  ///< of `cloth`
   DirectionGrid view_grid, light_grid;
+  /// A part of a sharded bake holds only its view nodes (material_shard.h);
+  /// the others have rank 0 and zero tables until the parts are merged.
+  MaterialShard shard;
   int max_rank = 0;            ///< coefficient slots per texel (the largest rank)
   std::vector<int> rank;       ///< per view node
   std::vector<float> error;    ///< per view node: relative RMSE of its factorisation, level 0

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/march/sample_march.h"
+#include "core/material/material_shard.h"
 #include "core/util/error.h"
 #include "core/util/random.h"
 
@@ -245,6 +246,7 @@ void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) 
   const int ch = material.layout().channels;
   for (int v = 0; v < material.view_count(); ++v) {
     const ViewFactors& f = factors[size_t(v)];
+    if (f.alpha.empty()) continue;  // another part's view node (material_shard.h)
     material.rank[v] = f.rank;
     material.error[v] = f.error;
     for (size_t t = 0; t < texels; ++t) {
@@ -268,7 +270,8 @@ void assemble(const std::vector<ViewFactors>& factors, ClothMaterial& material) 
 ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shader,
                             const MaterialOptics& optics, const MaterialSettings& settings,
                             uint64_t memory_budget, const std::function<void(double)>& progress,
-                            MaterialBakeStats* stats, const ClothSpec* colour_free_cloth) {
+                            MaterialBakeStats* stats, const ClothSpec* colour_free_cloth,
+                            const MaterialShard& shard) {
   check_material_settings(settings);
   if (settings.parts == MaterialParts::SpecularWarpWeft && !colour_free_cloth)
     throw InputError("parts", "colour-free parts need the colour-free cloth the volume is of");
@@ -279,7 +282,10 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
                               "albedo and no yarn colours)");
   ClothMaterial material = unbaked_material(volume, optics, settings);
   if (material.colour_parts()) material.set_cloth(*colour_free_cloth, palette_of(*colour_free_cloth));
-  const int n_views = material.view_count(), n_lights = material.light_count();
+  const int n_lights = material.light_count();
+  material.shard = shard;
+  const std::vector<int> views = material_shard_views(material.view_grid, shard);
+  const int n_views = int(views.size());
 
   // Step 1: the light fields, one per light node, over the whole repeat.
   const std::vector<V3f> light_local = material_light_directions(material);
@@ -299,14 +305,15 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
 
   // Steps 2 and 3, per view node: march every texel for all light nodes,
   // then factorise.
-  std::vector<ViewFactors> factors(static_cast<size_t>(n_views));
+  std::vector<ViewFactors> factors(size_t(material.view_count()));
   tbb::enumerable_thread_specific<ViewLocal> locals;
   std::atomic<uint64_t> table_bytes{0};
   std::atomic<int> views_done{0};
   std::mutex progress_mutex;
   std::atomic<bool> over_budget{false};
-  tbb::parallel_for(0, n_views, [&](int view) {
+  tbb::parallel_for(0, n_views, [&](int i) {
     if (over_budget) return;
+    const int view = views[size_t(i)];
     ViewFactors& f = factors[size_t(view)];
     const Eigen::MatrixXf m = march_view_node(material, volume, shader, fields, light_local, view,
                                               locals.local(), f);

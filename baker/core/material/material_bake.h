@@ -39,7 +39,8 @@ struct MaterialBakeStats {
 uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& settings,
                                    int threads);
 
-/// Bakes the material. Colour-free parts (settings.parts) need the
+/// Bakes the material, or part `shard` of it (its view nodes only,
+/// material_shard.h). Colour-free parts (settings.parts) need the
 /// colour-free cloth `volume` was generated from (its threads decide which
 /// parts are a sample's own and which its neighbours'). `memory_budget_bytes` bounds the fields plus the
 /// factorised table as it grows (InputError on "memory" when exceeded).
@@ -49,7 +50,8 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
                             uint64_t memory_budget_bytes,
                             const std::function<void(double)>& progress = {},
                             MaterialBakeStats* stats = nullptr,
-                            const ClothSpec* colour_free_cloth = nullptr);
+                            const ClothSpec* colour_free_cloth = nullptr,
+                            const MaterialShard& shard = {});
 
 /// The march of sample k of texel (x, y) toward view node `view`, exactly as
 /// bake_material runs it (its seeds, jitter and entry point); `material`

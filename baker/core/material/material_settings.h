@@ -28,6 +28,15 @@ inline constexpr int k_min_fiber_tangent_nodes = 2, k_max_fiber_tangent_nodes = 
 /// family, to be multiplied by the yarn colours when the material renders.
 enum class MaterialParts { Rgb, SpecularWarpWeft };
 
+/// Which part of a sharded bake a material is (material_shard.h): part
+/// `index` (0-based; the CLI's --shard counts from 1) of `count`. A count of
+/// 1 is the whole bake.
+struct MaterialShard {
+  int index = 0;
+  int count = 1;
+  bool whole() const { return count == 1; }
+};
+
 /// The sampling and compression of the table.
 struct MaterialSettings {
   int texels = 32;            ///< R: texels per repeat side at level 0, a power of 2
