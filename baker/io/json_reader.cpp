@@ -90,6 +90,15 @@ void JsonObject::read(const char* key, float& out) const {
   out = static_cast<float>(d);
 }
 
+void JsonObject::read(const char* key, double& out) const {
+  if (!has(key)) return;
+  const auto& v = m_value.at(key);
+  if (!v.is_number()) fail(field(key), "expected a number, got " + type_name(v));
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) fail(field(key), "must be a finite number");
+  out = d;
+}
+
 void JsonObject::read(const char* key, int& out) const {
   if (!has(key)) return;
   const auto& v = m_value.at(key);

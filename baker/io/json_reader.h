@@ -34,6 +34,7 @@ class JsonObject {
 
   /// Each reader leaves `out` unchanged when the key is absent (the default).
   void read(const char* key, float& out) const;
+  void read(const char* key, double& out) const;  ///< kept whole: a value written as double reads back exact
   void read(const char* key, int& out) const;
   void read(const char* key, uint64_t& out) const;
   void read(const char* key, std::string& out) const;

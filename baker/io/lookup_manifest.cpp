@@ -35,9 +35,9 @@ MeshSummary read_mesh_summary(const JsonObject& j) {
   j.read("uv_min", m.uv_min);
   j.read("uv_max", m.uv_max);
   j.read("mean_centre", m.mean_centre_world);
-  float area = 0.0f;
+  double area = 0.0;  // double, as written: a merge's manifest then equals the whole bake's
   j.read("area", area);
-  if (!(area >= 0.0f)) j.fail(j.field("area"), "must be >= 0");
+  if (!(area >= 0.0)) j.fail(j.field("area"), "must be >= 0");
   m.area_world = area;
   return m;
 }

@@ -307,6 +307,7 @@ STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_pane
          ("shot", "material_05_light_moved", False), restore_scene,
          long_bake_asks, ("shot", "09_long_bake_asks", False)]
 state = {"i": 0, "since": time.time()}
+START = time.time()
 
 
 def tick():
@@ -319,6 +320,11 @@ def tick():
             bpy.ops.wm.quit_blender()
             return None
         step = STEPS[state["i"]]
+        if state.get("announced") != state["i"]:  # where a hung run stopped
+            state["announced"] = state["i"]
+            name = step[1] if isinstance(step, tuple) and step[0] == "shot" else \
+                (step[1].__name__ if isinstance(step, tuple) else step.__name__)
+            print(f"step {state['i'] + 1}/{len(STEPS)} {name} at {time.time() - START:.0f} s", flush=True)
         if isinstance(step, tuple) and step[0] == "shot":
             if time.time() - state["since"] < 1.5:
                 return 0.5

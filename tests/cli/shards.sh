@@ -56,7 +56,18 @@ done
 "$exe" merge "$tmp/l2" "$tmp/l1" -o "$tmp/lm" >/dev/null || fail "merge of the bake parts"
 for f in "$tmp"/lw/*; do
   b=$(basename "$f")
-  [ "$b" = manifest.json ] && continue  # holds the bake's times
+  [ "$b" = manifest.json ] && continue  # below
   cmp -s "$f" "$tmp/lm/$b" || fail "merged bake's $b differs from the whole bake"
 done
+# The manifest: equal to the whole bake's but for "statistics" (seconds).
+/usr/bin/python3 - "$tmp/lw/manifest.json" "$tmp/lm/manifest.json" <<'PY' || fail "merged bake's manifest differs (above)"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+for m in (a, b):
+    m.pop("statistics", None)
+diff = [k for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)]
+if diff:
+    print("  fields that differ:", ", ".join(diff), [(a.get(k), b.get(k)) for k in diff][:3])
+sys.exit(1 if diff else 0)
+PY
 echo "OK: 3 material parts merge to the whole bake's $n files byte for byte; 2 bake shards merge to the whole bake; 6 refusals"
