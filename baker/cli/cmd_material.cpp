@@ -124,7 +124,8 @@ void run_material(const MaterialArgs& args) {
   if (args.estimate) {
     const MaterialEstimate e =
         probe_material(*src.volume, *src.shader, src.optics, settings, threads,
-                       src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth : nullptr);
+                       src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth : nullptr,
+                       shard);
     std::printf("%s\n", io::material_estimate_json(settings, e, threads).dump(2).c_str());
     return;
   }

@@ -15,7 +15,13 @@ nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialE
       {"light_nodes", e.light_nodes}, {"texels", s.texels}, {"spp", s.spp}, {"rays", e.rays},
       {"light_field_bytes", e.light_field_bytes}, {"fixed_bytes", e.fixed_bytes},
       {"max_bytes", e.max_bytes}};
-  return report;
+  if (e.shard.whole()) return report;
+  nlohmann::json part = report;
+  part["shard"] = {{"part", e.shard.index + 1},
+                   {"of", e.shard.count},
+                   {"whole_view_nodes", e.whole_view_nodes},
+                   {"cost_share", e.shard_cost_share}};
+  return part;
 }
 
 nlohmann::json material_bake_report_json(const ClothMaterial& m, const MaterialBakeStats& stats,

@@ -58,10 +58,12 @@ for n in $shard_list; do
   done
   status=$(ls -d "$work/farm_$n.logs"/tasks-*)/status
   shards_s=$(for ((i = 1; i <= n; i++)); do sed -n 's/.*state=done .*seconds=\([0-9.]*\).*/\1/p' "$status/$i"; done | paste -sd,)
-  merge_s=$(sed -n 's/.*state=done .*seconds=\([0-9.]*\).*/\1/p' "$status/merge")
+  merge_s=0  # --shards 1 bakes straight into the output
+  [[ -f $status/merge ]] && merge_s=$(sed -n 's/.*state=done .*seconds=\([0-9.]*\).*/\1/p' "$status/merge")
   log "$n shard(s): wall $wall s, shards [$shards_s] s, merge $merge_s s; merged bytes equal the single bake's"
   printf '%s\t%s\t%s\t%s\n' "$n" "$wall" "$shards_s" "$merge_s" >>"$runs"
 done
 /usr/bin/python3 "$farm_dir/scaling_report.py" "$runs" --single-seconds "$single" --cores "$cores" \
   --options "${mat_opts[*]}" --json "$out/scaling.json" --png "$out/farm_scaling.png"
-log "wrote $out/scaling.json and $out/farm_scaling.png"
+cp "$runs" "$out/runs.tsv"
+log "wrote $out/runs.tsv, $out/scaling.json and $out/farm_scaling.png"

@@ -63,16 +63,26 @@ def main():
     latency = max(0.0, one["overhead_seconds"])
     n = np.array([r["shards"] for r in runs], float)
     slowest = np.array([r["max_shard_seconds"] for r in runs])
-    merge = float(np.mean([r["merge_seconds"] for r in runs]))
+    # The merge reads every part whole (a part has the whole layout), so its
+    # cost grows with N: m(N) = c + d N by least squares over the runs that
+    # have one (a single shard bakes straight into the output).
+    mr = [r for r in runs if r["shards"] > 1]
+    if len(mr) >= 2:
+        (mc, md), *_ = np.linalg.lstsq(np.stack([np.ones(len(mr)), [r["shards"] for r in mr]], 1),
+                                       np.array([r["merge_seconds"] for r in mr]), rcond=None)
+    else:
+        mc, md = (mr[0]["merge_seconds"] if mr else 0.0), 0.0
+    merge_at = lambda k: float(mc + md * k)  # noqa: E731
     # t(N) = a + b / N by least squares (numpy's lstsq).
     (fix, div), *_ = np.linalg.lstsq(np.stack([np.ones_like(n), 1 / n], 1), slowest, rcond=None)
     for r in runs:
         r["projected_wall_seconds_on_n_nodes"] = r["max_shard_seconds"] + r["merge_seconds"] + latency
     far = [16, 32, 64, 128]
-    projection = [{"nodes": k, "projected_wall_seconds": float(fix + div / k + merge + latency)} for k in far]
+    projection = [{"nodes": k, "merge_seconds": merge_at(k),
+                   "projected_wall_seconds": float(fix + div / k + merge_at(k) + latency)} for k in far]
     report = {"machine": {"cores": a.cores}, "material_options": a.options,
               "single_seconds": a.single_seconds, "submission_latency_seconds": latency,
-              "mean_merge_seconds": merge,
+              "merge_fit": {"fixed_seconds": float(mc), "per_part_seconds": float(md)},
               "slowest_shard_fit": {"fixed_seconds": float(fix), "divisible_seconds": float(div)},
               "runs": runs, "extrapolated": projection}
     tmp = a.json + ".tmp"
@@ -86,11 +96,12 @@ def main():
     ax.plot(n, [r["projected_wall_seconds_on_n_nodes"] for r in runs], "s-", color="C1",
             label="projected on N nodes: slowest shard + merge + latency")
     kk = np.geomspace(n.min(), far[-1], 64)
-    ax.plot(kk, fix + div / kk + merge + latency, "--", color="C1", alpha=0.6,
-            label=f"fit: {fix:.1f} s + {div:.1f} s / N + merge + latency")
+    ax.plot(kk, fix + div / kk + mc + md * kk + latency, "--", color="C1", alpha=0.6,
+            label=f"fit: slowest shard {fix:.1f} s + {div:.1f} s / N, merge {mc:.1f} s + {md:.2f} s N, latency {latency:.1f} s")
     ax.plot(kk, a.single_seconds / kk, ":", color="grey", label="ideal: single bake / N")
     ax.axhline(a.single_seconds, color="k", lw=0.8, label=f"single bake, no farm: {a.single_seconds:.1f} s")
-    ax.axhline(merge, color="C2", lw=0.8, label=f"merge: {merge:.2f} s")
+    ax.plot(n[n > 1], [r["merge_seconds"] for r in runs if r["shards"] > 1], "^-", color="C2",
+            label="measured: the merge")
     ax.set_xscale("log", base=2)
     ax.set_yscale("log")
     ax.set_xlabel("shards (= nodes, for the projection)")
@@ -119,7 +130,7 @@ def main():
               f"max {r['max_shard_seconds']:6.2f} s (max/mean {r['imbalance']:.2f}), merge {r['merge_seconds']:.2f} s, "
               f"overhead {r['overhead_seconds']:.2f} s; on {r['shards']} nodes {r['projected_wall_seconds_on_n_nodes']:.2f} s")
     for p in projection:
-        print(f"extrapolated, {p['nodes']} nodes: {p['projected_wall_seconds']:.2f} s")
+        print(f"extrapolated, {p['nodes']} nodes: {p['projected_wall_seconds']:.2f} s (merge {p['merge_seconds']:.2f} s)")
 
 
 if __name__ == "__main__":

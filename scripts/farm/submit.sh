@@ -5,6 +5,9 @@
 #   submit.sh material SPEC_OR_SCENE -o DIR --shards N [OPTIONS] [-- MATERIAL_OPTIONS]
 #       N tasks `clothbake material SPEC -o DIR.parts/part-I --shard I/N ...`,
 #       then, after all of them succeeded, `clothbake merge DIR.parts/part-* -o DIR`
+#       (--shards 1: one task baking straight into DIR, no merge)
+#   submit.sh material SPEC... -o OUTDIR [OPTIONS] [-- MATERIAL_OPTIONS]
+#       a library: one task per spec, OUTDIR/<spec name>/ (each bake whole)
 #   submit.sh bake SCENE -o DIR --shards N [OPTIONS] [-- BAKE_OPTIONS]
 #       the same for `clothbake bake SCENE -o DIR.parts/part-I --shard I/N ...`
 #   submit.sh frames SCENE... -o OUTDIR [--route R] [--material DIR] [OPTIONS] [-- RENDER_OPTIONS]
@@ -158,20 +161,59 @@ submit() {  # sbatch arguments...; prints the job id
 
 array_job="" merge_job="" task_names=() task_outs=()
 
+# A library: several specs, one task each, OUTDIR/<spec name>/ (no shards, no merge).
+submit_library() {
+  [[ -z $shards || $shards == 1 ]] ||
+    die "--shards: a library of ${#inputs[@]} specs bakes each whole in one task (--shards 1 or none)"
+  [[ -z $range ]] || die "--range: only for frames"
+  local opts=() seen=" " spec name o i
+  mapfile -d '' opts < <(passthrough_and_threads)
+  for ((i = 1; i <= ${#inputs[@]}; i++)); do
+    spec=$(abs "${inputs[i - 1]}")
+    [[ -f $spec ]] || die "material: ${inputs[i - 1]}: no such file"
+    name=$(basename "$spec")
+    name=${name%.*}
+    [[ $seen != *" $name "* ]] || die "material: two specs named $name: their folders would collide in $out"
+    seen+="$name "
+    o=$out/$name
+    write_task "$i" "$o" -- "$clothbake" material "$spec" -o "$o" "${opts[@]}" --quiet
+    task_names+=("$i")
+    task_outs+=("$o")
+  done
+  mkdir -p "$out"
+  array_job=$(submit --array="1-${#inputs[@]}" --job-name="cb-material-$job_base" \
+    --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+  say "material library: ${#inputs[@]} specs, array job $array_job -> $out/<spec name>/"
+}
+
 submit_sharded() {  # the material and bake routes
-  ((${#inputs[@]} == 1)) || die "$kind: expected one input (${kind/material/spec or scene} JSON), got ${#inputs[@]}"
+  if [[ $kind == material ]] && ((${#inputs[@]} > 1)); then
+    submit_library
+    return
+  fi
+  ((${#inputs[@]} == 1)) || die "$kind: expected one input (scene JSON), got ${#inputs[@]}"
   [[ -n $shards ]] || die "--shards: missing (how many tasks)"
   whole_number --shards "$shards" 1
   [[ -z $range ]] || die "--range: only for frames"
   local input parts i part_list=()
   input=$(abs "${inputs[0]}")
   [[ -f $input ]] || die "$kind: ${inputs[0]}: no such file"
+  local opts=()
+  mapfile -d '' opts < <(passthrough_and_threads)
+  if ((shards == 1)); then
+    # One task: the whole bake straight into DIR (a merge takes parts only).
+    write_task 1 "$out" -- "$clothbake" "$kind" "$input" -o "$out" "${opts[@]}" --quiet
+    task_names+=(1)
+    task_outs+=("$out")
+    array_job=$(submit --array=1-1 --job-name="cb-$kind-$job_base" \
+      --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+    say "$kind: 1 task, array job $array_job -> $out (no merge)"
+    return
+  fi
   parts=$out.parts
   mkdir -p "$parts"
   # The parts of an earlier submission for this output: not this run's.
   rm -rf -- "$parts"/part-*
-  local opts=()
-  mapfile -d '' opts < <(passthrough_and_threads)
   for ((i = 1; i <= shards; i++)); do
     write_task "$i" "$parts/part-$i" -- \
       "$clothbake" "$kind" "$input" -o "$parts/part-$i" --shard "$i/$shards" "${opts[@]}" --quiet

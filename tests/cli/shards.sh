@@ -28,6 +28,29 @@ done
 [ "$n" -ge 4 ] || fail "the whole material has only $n files"
 [ "$(ls "$tmp/merged" | wc -l)" = "$n" ] || fail "the merged folder has other files"
 
+# --estimate with --shard: each part's estimate is of its views alone (the
+# three parts' views and cost shares add up to the whole's), writing nothing.
+for i in 1 2 3; do
+  "$exe" material "$scene" -o "$tmp/est" "${small[@]}" --shard "$i/3" --estimate >"$tmp/est$i.json" ||
+    fail "--estimate of part $i"
+done
+"$exe" material "$scene" -o "$tmp/est" "${small[@]}" --estimate >"$tmp/est.json" || fail "--estimate"
+[ ! -e "$tmp/est" ] || fail "--estimate wrote $tmp/est"
+/usr/bin/python3 - "$tmp"/est.json "$tmp"/est1.json "$tmp"/est2.json "$tmp"/est3.json <<'PY' ||
+import json, sys
+whole, *parts = (json.load(open(p)) for p in sys.argv[1:])
+views = sum(p["view_nodes"] for p in parts)
+share = sum(p["shard"]["cost_share"] for p in parts)
+rays = sum(p["rays"] for p in parts)
+ok = (views == whole["view_nodes"] and abs(share - 1) < 1e-9 and rays == whole["rays"]
+      and all(p["shard"]["of"] == 3 and p["shard"]["whole_view_nodes"] == whole["view_nodes"]
+              for p in parts)
+      and "shard" not in whole)
+print(f"  parts' views {views} of {whole['view_nodes']}, cost shares sum {share:.12f}, rays {rays} of {whole['rays']}")
+sys.exit(0 if ok else 1)
+PY
+  fail "the parts' estimates do not add up to the whole's (above)"
+
 refuse() {  # WHAT FIELD OUT -- COMMAND...
   local what=$1 field=$2 out=$3
   shift 4
@@ -70,4 +93,4 @@ if diff:
     print("  fields that differ:", ", ".join(diff), [(a.get(k), b.get(k)) for k in diff][:3])
 sys.exit(1 if diff else 0)
 PY
-echo "OK: 3 material parts merge to the whole bake's $n files byte for byte; 2 bake shards merge to the whole bake; 6 refusals"
+echo "OK: 3 material parts merge to the whole bake's $n files byte for byte, their estimates add up; 2 bake shards merge to the whole bake; 6 refusals"

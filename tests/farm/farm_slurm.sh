@@ -3,13 +3,15 @@
 # scripts/farm/local-cluster.sh in a private folder (its own munge key,
 # ports, state; stopped and deleted at the end), scripts/farm/submit.sh
 # against it. Checks, each against the same work done by one clothbake run:
-#  - a material in 4 shards plus the merge: every file byte for byte;
+#  - a material in 4 shards plus the merge, and in 1: every file byte for byte;
+#  - a library of two specs as one array: each folder byte for byte;
 #  - the same with task 2's first attempt killed (SIGKILL) after writing its
 #    part under the temporary name: requeued, stale temporary removed, same bytes;
 #  - a task that fails on every attempt (no retries): --wait exits non-zero,
 #    the merge never runs, the output folder is as it was;
 #  - three frames (reference route) and two (lookup route, from the farm's
-#    material): every EXR byte for byte;
+#    material): every EXR byte for byte; one by Blender's headless route: the
+#    same pixels;
 #  - a per-scene bake in 4 shards plus the merge: every EXR byte for byte, the
 #    manifest equal but for "statistics" (wall-clock seconds; the merge's
 #    record of its parts);
@@ -82,6 +84,28 @@ mat_opts=(--texels 8 --directions 4 --light-directions 4 --spp 1 --field-supersa
 farm mat material "$spec" -o "$tmp/mat" --shards 4 --wait -- "${mat_opts[@]}" ||
   fail "material through the farm: $(cat "$tmp/mat.err" "$tmp/mat.out")"
 same_folders "material, 4 shards + merge" "$tmp/mat_single" "$tmp/mat"
+farm mat1 material "$spec" -o "$tmp/mat1" --shards 1 --wait -- "${mat_opts[@]}" ||
+  fail "material in one shard: $(cat "$tmp/mat1.err" "$tmp/mat1.out")"
+same_folders "material, 1 shard (no merge)" "$tmp/mat_single" "$tmp/mat1"
+
+# --- a library: two specs, one task each; two specs of one name refused --------
+mkdir -p "$tmp/lib"
+cp "$root/testscenes/paper/cloth.json" "$tmp/lib/paper.json"
+cp "$root/testscenes/slab/cloth.json" "$tmp/lib/slab.json"
+for name in paper slab; do  # the manifest names its spec: bake the copies
+  "$exe" material "$tmp/lib/$name.json" -o "$tmp/${name}_single" "${mat_opts[@]}" --quiet >/dev/null ||
+    fail "the single $name material"
+done
+farm lib material "$tmp/lib/paper.json" "$tmp/lib/slab.json" -o "$tmp/library" --wait -- "${mat_opts[@]}" ||
+  fail "a library through the farm: $(cat "$tmp/lib.err" "$tmp/lib.out")"
+same_folders "library, paper" "$tmp/paper_single" "$tmp/library/paper"
+same_folders "library, slab" "$tmp/slab_single" "$tmp/library/slab"
+if farm libsame material "$spec" "$root/testscenes/slab/cloth.json" -o "$tmp/library2" -- "${mat_opts[@]}"; then
+  fail "two specs named cloth were submitted"
+fi
+grep -q "two specs named cloth" "$tmp/libsame.err" || fail "the refusal does not name the spec: $(cat "$tmp/libsame.err")"
+[[ ! -e $tmp/library2 ]] || fail "the refused library made $tmp/library2"
+echo "ok   a library of 2 specs: each folder byte-identical to its single bake; 2 specs of one name refused"
 
 # --- the same with task 2 killed mid-write on its first attempt -----------------
 CLOTHBAKE_FARM_FAULT=kill:2 farm kill material "$spec" -o "$tmp/mat_kill" --shards 4 --wait -- "${mat_opts[@]}" ||
@@ -137,6 +161,24 @@ for i in 1 3; do
 done
 same_folders "3 frames, reference route" "$tmp/frames_single" "$tmp/frames"
 same_folders "2 frames, lookup route from the farm's material" "$tmp/lframes_single" "$tmp/lframes"
+# The Blender route (Cycles from the farm's material), when Blender is here as
+# the Blender tests need it: the same pixels as a headless render run by hand
+# (not the same bytes: Blender's EXR header holds its own fields).
+if blender=$(command -v blender); then
+  farm bframes frames "$tmp/scenes/frame_0002.json" -o "$tmp/bframes" --route blender \
+    --material "$tmp/mat" --wait -- --samples 2 ||
+    fail "Blender frames through the farm: $(cat "$tmp/bframes.err" "$tmp/bframes.out")"
+  "$blender" -b --factory-startup --python-exit-code 1 -P "$root/blender_addon/headless_render.py" -- \
+    "$tmp/scenes/frame_0002.json" "$tmp/mat" "$tmp/bframe_single.exr" --samples 2 --threads 1 \
+    >"$tmp/bframe_single.log" 2>&1 || fail "the single Blender render: $(tail -5 "$tmp/bframe_single.log")"
+  max=$("$exe" compare "$tmp/bframe_single.exr" "$tmp/bframes/frame_0002.exr" --json |
+    /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["max_error"])') ||
+    fail "comparing the Blender frames"
+  [[ $max == 0.0 ]] || fail "the Blender frame through the farm differs from the single render (max error $max)"
+  echo "ok   1 frame, Blender route from the farm's material: the same pixels as the single render"
+else
+  echo "note: blender not found, the Blender route is not tried (scripts/packages.txt installs it)"
+fi
 
 # --- a per-scene bake in 4 shards ------------------------------------------------
 scene=$root/testscenes/paper/scene.json

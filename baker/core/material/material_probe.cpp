@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/material/material_bake.h"
+#include "core/material/material_shard.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
 
@@ -196,7 +197,8 @@ double probe_mips(const VolumeTexture& volume, const MaterialOptics& optics,
 
 MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
                                 const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads, const ClothSpec* colour_free_cloth) {
+                                int threads, const ClothSpec* colour_free_cloth,
+                                const MaterialShard& shard) {
   MaterialEstimate e;
   const auto probe_start = Clock::now();
   ClothMaterial material = unbaked_material(volume, optics, settings);
@@ -218,6 +220,22 @@ MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& 
   probe_marches(material, volume, shader, lights, threads, e);
   e.factorise_seconds = probe_factorise(layout, threads);
   e.mips_seconds = probe_mips(volume, optics, settings);
+  e.whole_view_nodes = e.view_nodes;
+  if (!shard.whole()) {
+    const std::vector<int> views = material_shard_views(material.view_grid, shard);
+    double mine = 0.0, all = 0.0;
+    for (int v = 0; v < e.view_nodes; ++v) all += material_view_cost(material.view_grid, v);
+    for (const int v : views) mine += material_view_cost(material.view_grid, v);
+    const double view_share = double(views.size()) / double(e.view_nodes);
+    e.shard = shard;
+    e.shard_cost_share = mine / all;
+    e.marches_seconds *= e.shard_cost_share;
+    e.factorise_seconds *= e.shard_cost_share;
+    e.mips_seconds *= view_share;
+    e.rays = uint64_t(views.size()) * layout.level_texels(0) * uint64_t(settings.spp);
+    e.max_bytes = uint64_t(double(e.max_bytes) * view_share);
+    e.view_nodes = int(views.size());
+  }
   e.seconds = e.fields_seconds + e.marches_seconds + e.factorise_seconds + e.mips_seconds;
   e.probe_seconds = seconds_since(probe_start);
   return e;

@@ -31,6 +31,12 @@ struct MaterialEstimate {
   uint64_t light_field_bytes = 0;  ///< the light fields
   uint64_t fixed_bytes = 0;        ///< fields plus one view's matrix per thread
   uint64_t max_bytes = 0;          ///< the table at full rank (every view at rank = light nodes)
+  /// For a part of a sharded bake (`--shard I/N`): the whole bake's view
+  /// nodes, and the part's share of their estimated cost (material_view_cost);
+  /// the figures above are then the part's.
+  MaterialShard shard;
+  int whole_view_nodes = 0;
+  double shard_cost_share = 1.0;
 };
 
 /// Probe sizes: light nodes built and marched, view nodes marched, rays per
@@ -52,8 +58,13 @@ inline constexpr int k_probe_rays_per_view = 128;
 ///  - mips: one level-0 table at full rank box-averaged, timed.
 /// Each part's core-seconds are divided by the thread count, as the bake
 /// runs its views in parallel.
+/// For a part (`shard` not whole): every part builds all the light fields, so
+/// those stay whole; the marches and the factorisation scale by the part's
+/// share of the view cost, the rays, the table and the mips by its share of
+/// the view nodes.
 MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
                                 const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads, const ClothSpec* colour_free_cloth = nullptr);
+                                int threads, const ClothSpec* colour_free_cloth = nullptr,
+                                const MaterialShard& shard = {});
 
 }  // namespace clothbake
