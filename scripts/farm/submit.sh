@@ -37,8 +37,15 @@ set -euo pipefail
 farm_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo_root=$(cd "$farm_dir/../.." && pwd)
 
+# A refused submission leaves nothing: what this run made for its task
+# files is removed unless a job was submitted.
+made_logs="" made_tasks="" submitted=0
 die() {
   printf 'submit.sh: error: %s\n' "$*" >&2
+  if ((!submitted)); then
+    [[ -n $made_tasks ]] && rm -rf -- "$made_tasks"
+    [[ -n $made_logs ]] && rmdir -- "$made_logs" 2>/dev/null
+  fi
   exit 2
 }
 say() { printf '%s\n' "$*" >&2; }
@@ -113,6 +120,7 @@ fi
 
 if [[ -z $logs ]]; then logs=$out.logs; fi
 logs=$(abs "$logs")
+[[ -d $logs ]] || made_logs=$logs
 mkdir -p "$logs" || die "--logs: cannot create $logs"
 
 # The options after --, NUL-separated, and --threads C unless they name it.
@@ -132,6 +140,7 @@ command -v sbatch >/dev/null 2>&1 ||
 stamp=$(date +%Y%m%d-%H%M%S)-$$
 task_dir=$logs/tasks-$stamp
 mkdir -p "$task_dir"
+made_tasks=$task_dir
 
 write_task() {  # name out [require=...]... -- argv...
   local name=$1 o=$2
@@ -183,6 +192,7 @@ submit_library() {
   mkdir -p "$out"
   array_job=$(submit --array="1-${#inputs[@]}" --job-name="cb-material-$job_base" \
     --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+  submitted=1
   say "material library: ${#inputs[@]} specs, array job $array_job -> $out/<spec name>/"
 }
 
@@ -207,6 +217,7 @@ submit_sharded() {  # the material and bake routes
     task_outs+=("$out")
     array_job=$(submit --array=1-1 --job-name="cb-$kind-$job_base" \
       --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+    submitted=1
     say "$kind: 1 task, array job $array_job -> $out (no merge)"
     return
   fi
@@ -224,6 +235,7 @@ submit_sharded() {  # the material and bake routes
   write_task merge "$out" "${part_list[@]}" -- "$clothbake" merge "${part_list[@]}" -o "$out"
   array_job=$(submit --array="1-$shards" --job-name="cb-$kind-$job_base" \
     --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+  submitted=1
   merge_job=$(submit --dependency="afterok:$array_job" --kill-on-invalid-dep=yes \
     --job-name="cb-merge-$job_base" --output="$logs/%x-%j.out" "$farm_dir/task.sh" "$task_dir" merge)
   say "$kind: $shards tasks, array job $array_job -> $parts/part-1..$shards"
@@ -257,7 +269,6 @@ submit_frames() {
     *) die "--route: expected reference, lookup or blender, got '$route'" ;;
   esac
   [[ -z $material_dir || $route != reference ]] || die "--material: only for --route lookup or blender"
-  mkdir -p "$out"
   local opts=() seen=" " scene name o
   mapfile -d '' opts < <(passthrough_and_threads)
   for ((i = 1; i <= ${#scenes[@]}; i++)); do
@@ -278,8 +289,10 @@ submit_frames() {
     task_names+=("$i")
     task_outs+=("$o")
   done
+  mkdir -p "$out"
   array_job=$(submit --array="1-${#scenes[@]}" --job-name="cb-frames-$job_base" \
     --output="$logs/%x-%A_%a.out" "$farm_dir/task.sh" "$task_dir")
+  submitted=1
   say "frames: ${#scenes[@]} tasks (route $route), array job $array_job -> $out/"
 }
 
