@@ -65,7 +65,7 @@ from collections import namedtuple
 import bpy
 
 from ..core.material_manifest import HORIZON
-from .graph import Graph
+from .graph import Graph, SubGraph
 
 GROUP_VERSION = 5
 STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
@@ -565,19 +565,32 @@ def _components(g, images, address, per_light, k, pack, col):
     sums = [None, None]
     alpha = sides = None
     for gi in range(pack.groups):
-        factors = _factor_reads(g, gi, per_light, light_image, k, pack, col)
+        # Each group of four in a sub-group of its own (graph.SubGraph: the
+        # build's cost), made where its nodes stood, so the order holds.
+        sub = SubGraph(g, f".{g.tree.name} components {4 * gi}-{4 * gi + 3}", col)
+        firsts = []
+        factors = _factor_reads(sub, gi, per_light, light_image, k, pack, 0)
         for c in range(4):
             kk = 4 * gi + c
             if kk >= pack.rank:
                 break
-            a = _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, col,
+            a = _component(sub, kk, c, coeff_image, address, per_light, factors, sums, pack, 0,
                            next_image)
             if next_image is not None:
                 a, side = a
                 if kk == 0:
-                    sides = side
+                    firsts += list(side)
             if kk == 0:
-                alpha = a
+                firsts.insert(0, a)
+        flat = [s for acc in sums if acc is not None for s in (acc if isinstance(acc, list) else [acc])]
+        outs = sub.finish(flat + firsts)
+        it = iter(outs)
+        sums = [None if acc is None else ([next(it) for _ in acc] if isinstance(acc, list)
+                                          else next(it)) for acc in sums]
+        if firsts:
+            alpha = next(it)
+            if next_image is not None:
+                sides = (next(it), next(it))
         col += 6
     if next_image is not None:
         return sums, alpha, col, sides
@@ -700,9 +713,13 @@ def _replace_old(name, group):
     empty: a black plane once the sphere beside it was applied)."""
     old = bpy.data.node_groups.get(name)
     if old is not None and old != group:
+        subs = [n.node_tree for n in old.nodes if n.type == "GROUP" and n.node_tree]
         old.user_remap(group)
         bpy.data.node_groups.remove(old)
         group.name = name
+        for sub in subs:  # its sub-groups (SubGraph), unless used elsewhere
+            if sub.users == 0:
+                bpy.data.node_groups.remove(sub)
 
 
 def light_kinds(lights):
