@@ -170,22 +170,31 @@ submit() {  # sbatch arguments...; prints the job id
 
 array_job="" merge_job="" task_names=() task_outs=()
 
+# One task's input made absolute and named by its file (without the
+# extension): `input_path` and `input_name`, refused when missing or when an
+# earlier input of this submission had the name (their outputs would collide).
+declare -A taken_names=()
+name_input() {  # what ("material: spec", "frames: scene"), path as given
+  input_path=$(abs "$2")
+  [[ -f $input_path ]] || die "${1%%:*}: $2: no such file"
+  input_name=$(basename "$input_path")
+  input_name=${input_name%.*}
+  [[ -z ${taken_names[$input_name]:-} ]] ||
+    die "${1%%:*}: two ${1#*: }s named $input_name: their outputs would collide in $out"
+  taken_names[$input_name]=1
+}
+
 # A library: several specs, one task each, OUTDIR/<spec name>/ (no shards, no merge).
 submit_library() {
   [[ -z $shards || $shards == 1 ]] ||
     die "--shards: a library of ${#inputs[@]} specs bakes each whole in one task (--shards 1 or none)"
   [[ -z $range ]] || die "--range: only for frames"
-  local opts=() seen=" " spec name o i
+  local opts=() o i
   mapfile -d '' opts < <(passthrough_and_threads)
   for ((i = 1; i <= ${#inputs[@]}; i++)); do
-    spec=$(abs "${inputs[i - 1]}")
-    [[ -f $spec ]] || die "material: ${inputs[i - 1]}: no such file"
-    name=$(basename "$spec")
-    name=${name%.*}
-    [[ $seen != *" $name "* ]] || die "material: two specs named $name: their folders would collide in $out"
-    seen+="$name "
-    o=$out/$name
-    write_task "$i" "$o" -- "$clothbake" material "$spec" -o "$o" "${opts[@]}" --quiet
+    name_input "material: spec" "${inputs[i - 1]}"
+    o=$out/$input_name
+    write_task "$i" "$o" -- "$clothbake" material "$input_path" -o "$o" "${opts[@]}" --quiet
     task_names+=("$i")
     task_outs+=("$o")
   done
@@ -269,15 +278,12 @@ submit_frames() {
     *) die "--route: expected reference, lookup or blender, got '$route'" ;;
   esac
   [[ -z $material_dir || $route != reference ]] || die "--material: only for --route lookup or blender"
-  local opts=() seen=" " scene name o
+  local opts=() scene o
   mapfile -d '' opts < <(passthrough_and_threads)
   for ((i = 1; i <= ${#scenes[@]}; i++)); do
-    scene=$(abs "${scenes[i - 1]}")
-    [[ -f $scene ]] || die "frames: ${scenes[i - 1]}: no such file"
-    name=$(basename "$scene" .json)
-    [[ $seen != *" $name "* ]] || die "frames: two scenes named $name.json: their outputs would collide in $out"
-    seen+="$name "
-    o=$out/$name.exr
+    name_input "frames: scene" "${scenes[i - 1]}"
+    scene=$input_path
+    o=$out/$input_name.exr
     case $route in
       reference) write_task "$i" "$o" -- "$clothbake" render "$scene" -o "$o" "${opts[@]}" --quiet ;;
       lookup) write_task "$i" "$o" -- "$clothbake" lookup-render "$scene" "$material_dir" -o "$o" "${opts[@]}" --quiet ;;
