@@ -6,14 +6,29 @@ import bpy
 
 
 class Graph:
+    """Every helper makes (and converts) its inputs before its own node, so
+    a node is made after every node it reads. Cycles' SVM compiler runs the
+    nodes in the order they were made, in passes: a node that reads a later
+    one waits a whole pass, while every node ready meanwhile is compiled and
+    its outputs held on the 255-float stack. One such wait per group of
+    components held every coefficient read at once ("out of SVM stack
+    space", a black cloth, under three lights). `late` lists every link that
+    breaks the order: a socket fed from a node made after it, or from a
+    socket of another type (Cycles makes that ConvertNode after every node
+    of the tree). Nodes Cycles expands (a Math node's own Clamp) are not
+    used: math() makes the Clamp itself."""
+
     def __init__(self, tree):
         self.tree = tree
         self.nodes = tree.nodes
         self.links = tree.links
         self._column = {}
+        self._serial = {}
+        self.late = []
 
     def node(self, kind, column=0, label=None, **props):
         n = self.nodes.new(kind)
+        self._serial[n.as_pointer()] = len(self._serial)
         row = self._column.get(column, 0)
         self._column[column] = row + 1
         n.location = (column * 220.0, -row * 160.0)
@@ -24,21 +39,67 @@ class Graph:
         return n
 
     def feed(self, socket, value):
-        """Links `value` into `socket` if it is a socket, else sets it."""
+        """Links `value` into `socket` if it is a socket, else sets it. Make
+        and convert `value` before the node of `socket` (ready)."""
         if hasattr(value, "is_output"):
+            if value.id_data == self.tree:
+                made = self._serial.get(value.node.as_pointer(), -1)
+                if made > self._serial.get(socket.node.as_pointer(), -1):
+                    self.late.append(f"{socket.node.name}.{socket.name} <- {value.node.name} "
+                                     "(made after it)")
+            if value.type != socket.type and "SHADER" not in (value.type, socket.type):
+                self.late.append(f"{socket.node.name}.{socket.name} <- {value.node.name} "
+                                 f"({value.type} into {socket.type})")
             self.links.new(value, socket)
         else:
             socket.default_value = value
 
+    def ready(self, value, to):
+        """`value` (a socket or a constant) as a socket of type `to`, made now,
+        before its user (converted); constants pass through."""
+        return self.converted(value, to) if hasattr(value, "is_output") else value
+
+    def converted(self, out, to):
+        """Output socket `out` as a socket of type `to` (VALUE, VECTOR or
+        RGBA), through nodes made now; Cycles' own conversions: a float
+        spread over three channels, colour and vector channel for channel.
+        A conversion to VALUE is left to Cycles (none is used)."""
+        frm = out.type
+        if frm == to or to not in ("VECTOR", "RGBA") or frm not in ("VALUE", "VECTOR", "RGBA"):
+            return out
+        column = round(out.node.location.x / 220.0)
+        if frm == "VALUE":
+            xyz = (out, out, out)
+        else:
+            xyz = self.separate(out, column)
+        if to == "VECTOR":
+            return self.combine(*xyz, column=column)
+        n = self.node("ShaderNodeCombineColor", column, mode="RGB")
+        for i, c in enumerate(xyz):
+            self.feed(n.inputs[i], c)
+        return n.outputs[0]
+
     def math(self, op, a, b=0.0, c=0.0, column=0, clamp=False):
-        n = self.node("ShaderNodeMath", column, operation=op, use_clamp=clamp)
+        """A Math node; clamp=True clamps to [0, 1] with a Clamp node made
+        right after it, not the node's own Clamp: Cycles expands that into a
+        Clamp node made after every node of the graph (MathNode::expand),
+        and every user of a clamped value waited a compile pass (see the
+        class docstring; the same operation, the same pixels)."""
+        n = self.node("ShaderNodeMath", column, operation=op)
         self.feed(n.inputs[0], a)
         self.feed(n.inputs[1], b)
         if len(n.inputs) > 2:
             self.feed(n.inputs[2], c)
-        return n.outputs[0]
+        if not clamp:
+            return n.outputs[0]
+        clamped = self.node("ShaderNodeClamp", column, clamp_type="MINMAX")
+        self.feed(clamped.inputs["Value"], n.outputs[0])
+        self.feed(clamped.inputs["Min"], 0.0)
+        self.feed(clamped.inputs["Max"], 1.0)
+        return clamped.outputs["Result"]
 
     def vmath(self, op, a, b=None, column=0):
+        a, b = self.ready(a, "VECTOR"), None if b is None else self.ready(b, "VECTOR")
         n = self.node("ShaderNodeVectorMath", column, operation=op)
         self.feed(n.inputs[0], a)
         if b is not None:
@@ -55,7 +116,12 @@ class Graph:
         return n.outputs[0]
 
     def separate(self, v, column=0):
-        n = self.node("ShaderNodeSeparateXYZ", column)
+        """A vector's or a colour's three channels (a colour through Separate
+        Color: no conversion)."""
+        colour = hasattr(v, "is_output") and v.type == "RGBA"
+        n = self.node("ShaderNodeSeparateColor" if colour else "ShaderNodeSeparateXYZ", column)
+        if colour:
+            n.mode = "RGB"
         self.feed(n.inputs[0], v)
         return n.outputs[0], n.outputs[1], n.outputs[2]
 
@@ -65,6 +131,7 @@ class Graph:
                          column=column)
 
     def mix_color(self, a, b, t, column=0):
+        a, b = self.ready(a, "RGBA"), self.ready(b, "RGBA")
         n = self.node("ShaderNodeMixRGB", column, blend_type="MIX")
         self.feed(n.inputs["Fac"], t)
         self.feed(n.inputs["Color1"], a)
@@ -73,6 +140,7 @@ class Graph:
 
     def scale(self, v, k, column=0):
         """Vector v times scalar k (socket or constant)."""
+        v = self.ready(v, "VECTOR")
         n = self.node("ShaderNodeVectorMath", column, operation="SCALE")
         self.feed(n.inputs[0], v)
         self.feed(n.inputs["Scale"], k)
@@ -128,6 +196,7 @@ class SubGraph(Graph):
                 s = self._input(s)
             self.tree.outputs.new(_INTERFACE_TYPES[s.type], f"out {i}")
             self.links.new(s, gout.inputs[i])
+        self.parent.late += [f"{self.tree.name}: {e}" for e in self.late]
         node = self.parent.node("ShaderNodeGroup", self.column, node_tree=self.tree)
         for i, outer in enumerate(self._outer):
             self.parent.feed(node.inputs[i], outer)

@@ -235,9 +235,6 @@ def _fill_material_tree(tree, group, uv_name):
     if tree.animation_data:
         tree.animation_data_clear()
     tree.nodes.clear()
-    node = tree.nodes.new("ShaderNodeGroup")
-    node.node_tree = group
-    node.location = (0, 0)
     uv = tree.nodes.new("ShaderNodeUVMap")
     uv.uv_map = uv_name
     uv.location = (-300, 100)
@@ -251,6 +248,12 @@ def _fill_material_tree(tree, group, uv_name):
     bitangent.label = "signed bitangent"
     bitangent.inputs["Color"].default_value = (0.5, 1.0, 0.5, 1.0)
     bitangent.location = (-300, -300)
+    # The group node after its feeds: Cycles compiles in creation order
+    # (graph.Graph.converted), and a group node made first would wait a
+    # pass for them.
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    node.location = (0, 0)
     tree.links.new(uv.outputs["UV"], node.inputs["UV"])
     tree.links.new(tangent.outputs["Tangent"], node.inputs["Tangent"])
     tree.links.new(bitangent.outputs["Normal"], node.inputs["Bitangent"])

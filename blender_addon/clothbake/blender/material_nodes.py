@@ -95,6 +95,7 @@ def _mix(g, blend, a, b, fac, column):
     node after all others, which delays its users to a later compile pass
     while every ready texture read is compiled and held on the 255-float SVM
     stack ("out of SVM stack space": a black cloth at rank 24)."""
+    a, b = g.ready(a, "RGBA"), g.ready(b, "RGBA")
     n = g.node("ShaderNodeMix", column, data_type="RGBA", blend_type=blend,
                clamp_factor=False, clamp_result=False)
     g.feed(n.inputs[0], fac)
@@ -277,16 +278,18 @@ def _randoms(g, position, area=False):
     (xi8, the second node's unused Value, and xi9 from a third node) pick
     the point on each area light."""
     def noise(offset, column):
+        at = g.vmath("ADD", position, offset, column=column)
         n = g.node("ShaderNodeTexWhiteNoise", column, noise_dimensions="3D")
-        g.feed(n.inputs["Vector"], g.vmath("ADD", position, offset, column=column))
+        g.feed(n.inputs["Vector"], at)
         return g.separate(n.outputs["Color"], column=column) + (n.outputs["Value"],)
 
     xi1, xi2, xi3, xi7 = noise((0.0, 0.0, 0.0), 4)
     xi4, xi5, xi6, xi8 = noise((17.13, -3.71, 9.29), 4)
     if not area:
         return xi1, xi2, xi3, xi4, xi5, xi6, xi7
+    at = g.vmath("ADD", position, (-5.37, 11.71, 2.93), column=4)
     n = g.node("ShaderNodeTexWhiteNoise", 4, noise_dimensions="3D")
-    g.feed(n.inputs["Vector"], g.vmath("ADD", position, (-5.37, 11.71, 2.93), column=4))
+    g.feed(n.inputs["Vector"], at)
     return xi1, xi2, xi3, xi4, xi5, xi6, xi7, xi8, n.outputs["Value"]
 
 
@@ -497,11 +500,12 @@ def _factor_reads(g, gi, per_light, light_image, k, pack, col):
     q = pack.dense + 2
     factors = []
     for l, light in enumerate(per_light):
+        at = g.vmath("ADD", light.uv, (gi * 2.0 * k * q / pack.light_width, 0.0, 0.0),
+                     column=col)
         tex = g.node("ShaderNodeTexImage", col, image=light_image,
                      interpolation="Closest", extension="EXTEND",
                      label=f"light {l} factors {4 * gi}..{4 * gi + 3}")
-        g.feed(tex.inputs["Vector"], g.vmath("ADD", light.uv, (gi * 2.0 * k * q / pack.light_width,
-                                                               0.0, 0.0), column=col))
+        g.feed(tex.inputs["Vector"], at)
         r, gg, b = g.separate(tex.outputs["Color"], column=col + 1)
         factors.append((r, gg, b, tex.outputs["Alpha"]))
     return factors
@@ -639,9 +643,10 @@ def _yarn_colours(g, gin, family, place, plus, image, rows, levels, col):
     out = []
     for label, r in (("own", row), ("next", g.math("ADD", row, block, column=col))):
         v = g.math("DIVIDE", g.math("ADD", r, 0.5, column=col), float(height), column=col)
+        at = g.combine(u, v, 0.0, column=col)
         tex = g.node("ShaderNodeTexImage", col + 1, image=image, interpolation="Closest",
                      extension="EXTEND", label=f"{family} colours, {label}")
-        g.feed(tex.inputs["Vector"], g.combine(u, v, 0.0, column=col))
+        g.feed(tex.inputs["Vector"], at)
         out.append(_mix(g, "MIX", gin[f"{family} colour"], tex.outputs["Color"],
                         gin[f"{family} per thread"], col + 2))
     return out
@@ -671,40 +676,52 @@ def _coloured(g, gin, sums, places, sides, strips, levels, col):
 
 def _shaders(g, sums, alpha, denom, lit, col):
     """Step 6's closures into the group's outputs: Emission (+ Diffuse when
-    lit) + Transparent(1 - A); Color the radiance, Alpha A."""
+    lit) + Transparent(1 - A); Color the radiance, Alpha A. Every value
+    first, then the closures, then the output (graph.Graph: creation
+    order)."""
     radiance, radiance_back = sums
     zero = (0.0, 0.0, 0.0)
-    radiance = g.vmath("MAXIMUM", radiance if radiance is not None else zero, zero,
-                       column=col + 4)
-    out = g.node("NodeGroupOutput", col + 8)
-    transparent = g.node("ShaderNodeBsdfTransparent", col + 6)
-    g.feed(transparent.inputs["Color"], g.math("SUBTRACT", 1.0, alpha, column=col + 5,
-                                               clamp=True))
+    front = radiance if radiance is not None else zero
+    back = radiance_back if radiance_back is not None else zero
+    if lit and radiance is not None and radiance_back is not None:
+        # Cycles compiles the Diffuse closure's inputs, then the Emission's:
+        # whatever both sums read (every coefficient) would wait on the SVM
+        # stack between the two. max(f, min(b, 0)) makes the front sum read
+        # the back one, so the Diffuse's inputs compute both, and the
+        # max(., 0) below makes it max(f, 0) exactly.
+        front = g.vmath("MAXIMUM", front, g.vmath("MINIMUM", back, zero, column=col + 4),
+                        column=col + 4)
+    radiance = g.vmath("MAXIMUM", front, zero, column=col + 4)
+    transparency = g.ready(g.math("SUBTRACT", 1.0, alpha, column=col + 5, clamp=True), "RGBA")
     if lit:
-        radiance_back = g.vmath("MAXIMUM", radiance_back if radiance_back is not None else zero,
-                                zero, column=col + 4)
+        radiance_back = g.vmath("MAXIMUM", back, zero, column=col + 4)
         safe = g.vmath("MAXIMUM", denom if denom is not None else zero, (1e-6,) * 3,
                        column=col + 4)
-        colour = g.scale(g.vmath("DIVIDE", radiance, safe, column=col + 5), math.pi, col + 5)
+        colour = g.ready(g.scale(g.vmath("DIVIDE", radiance, safe, column=col + 5), math.pi,
+                                 col + 5), "RGBA")
+        emitted = g.ready(radiance_back, "RGBA")
+        color_out = g.ready(g.vmath("ADD", radiance, radiance_back, column=col + 5), "RGBA")
         diffuse = g.node("ShaderNodeBsdfDiffuse", col + 6)
         g.feed(diffuse.inputs["Color"], colour)
         emission = g.node("ShaderNodeEmission", col + 6)
-        g.feed(emission.inputs["Color"], radiance_back)
+        g.feed(emission.inputs["Color"], emitted)
         add1 = g.node("ShaderNodeAddShader", col + 7)
-        g.links.new(diffuse.outputs[0], add1.inputs[0])
-        g.links.new(emission.outputs[0], add1.inputs[1])
-        color_out = g.vmath("ADD", radiance, radiance_back, column=col + 5)
+        g.feed(add1.inputs[0], diffuse.outputs[0])
+        g.feed(add1.inputs[1], emission.outputs[0])
     else:
+        color_out = g.ready(radiance, "RGBA")
         emission = g.node("ShaderNodeEmission", col + 6)
-        g.feed(emission.inputs["Color"], radiance)
+        g.feed(emission.inputs["Color"], color_out)
         add1 = emission
-        color_out = radiance
+    transparent = g.node("ShaderNodeBsdfTransparent", col + 6)
+    g.feed(transparent.inputs["Color"], transparency)
     add = g.node("ShaderNodeAddShader", col + 7)
-    g.links.new(add1.outputs[0], add.inputs[0])
-    g.links.new(transparent.outputs[0], add.inputs[1])
-    g.links.new(add.outputs[0], out.inputs["Shader"])
-    g.links.new(color_out, out.inputs["Color"])
-    g.links.new(alpha, out.inputs["Alpha"])
+    g.feed(add.inputs[0], add1.outputs[0])
+    g.feed(add.inputs[1], transparent.outputs[0])
+    out = g.node("NodeGroupOutput", col + 8)
+    g.feed(out.inputs["Shader"], add.outputs[0])
+    g.feed(out.inputs["Color"], color_out)
+    g.feed(out.inputs["Alpha"], alpha)
 
 
 def _replace_old(name, group):
@@ -780,5 +797,9 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
         sums = _coloured(g, gin, sums, places, sides, strips, info.levels, col)
         col += 5
     _shaders(g, sums, alpha, denom, lit, col)
+    if g.late:
+        bpy.data.node_groups.remove(group)
+        raise RuntimeError(f"clothbake: node group '{name}' links out of creation order (a "
+                           f"defect: Cycles would hold values on its SVM stack): {g.late[:5]}")
     _replace_old(name, group)
     return group
