@@ -495,13 +495,22 @@ def _lights(g, gin, frame, position, view, info, pack, kinds, lit, xis, col):
     return per_light, denom, col
 
 
-def _factor_reads(g, gi, per_light, light_image, k, pack, col):
-    """Each light's factors of components 4 gi .. 4 gi + 3: (R, G, B, A)."""
+def _factor_reads(g, gi, per_light, light_image, k, pack, col, gate=None):
+    """Each light's factors of components 4 gi .. 4 gi + 3: (R, G, B, A);
+    the addresses times `gate` (_gated: exactly 1) when there is one."""
     q = pack.dense + 2
     factors = []
     for l, light in enumerate(per_light):
-        at = g.vmath("ADD", light.uv, (gi * 2.0 * k * q / pack.light_width, 0.0, 0.0),
-                     column=col)
+        offset = (gi * 2.0 * k * q / pack.light_width, 0.0, 0.0)
+        if gate is None:
+            at = g.vmath("ADD", light.uv, offset, column=col)
+        else:
+            uv = g.ready(light.uv, "VECTOR")
+            n = g.node("ShaderNodeVectorMath", col, operation="MULTIPLY_ADD")
+            g.feed(n.inputs[0], uv)
+            g.feed(n.inputs[1], gate)
+            g.feed(n.inputs[2], offset)
+            at = n.outputs["Vector"]
         tex = g.node("ShaderNodeTexImage", col, image=light_image,
                      interpolation="Closest", extension="EXTEND",
                      label=f"light {l} factors {4 * gi}..{4 * gi + 3}")
@@ -554,6 +563,25 @@ def _component(g, kk, c, coeff_image, address, per_light, factors, sums, pack, c
     return tex.outputs["Alpha"]
 
 
+def _gated(g, last, address):
+    """The group's texture coordinates (the address's uv0 and step; the
+    factor reads take the gate as a vector, _factor_reads) times a gate
+    that is exactly 1 but is read from
+    `last`, the previous group's last coefficient read (1 - (a < -3e38):
+    1 for any alpha, NaN included). Why: Cycles makes the conversion of a
+    texture read's coordinates (a vector into the read's point socket)
+    after every node of the sub-group, so each read waits a compile pass;
+    ungated, every group's coordinates were computed in that pass and held
+    on the SVM stack together (3 floats per read: 24 reads and three
+    lights overflowed it). Gated, a group's coordinates are computed once
+    the previous group's reads are done."""
+    gate = g.math("MULTIPLY_ADD", g.math("LESS_THAN", last, -3e38, column=0), -1.0, 1.0,
+                  column=0)
+    uv0, step = address[:2]
+    return ((g.scale(uv0, gate, 0), g.scale(step, gate, 0)) + tuple(address[2:]),
+            g.scale((1.0, 1.0, 1.0), gate, 0))
+
+
 def _components(g, images, address, per_light, k, pack, col):
     """Step 6: per group of four components, each light's factors, then the
     four coefficients, summed at once. Nodes are made in this order because
@@ -567,27 +595,39 @@ def _components(g, images, address, per_light, k, pack, col):
     coeff_image, light_image = images[:2]
     next_image = images[2] if len(images) > 2 else None
     sums = [None, None]
-    alpha = sides = None
+    alpha = sides = last = None
     for gi in range(pack.groups):
         # Each group of four in a sub-group of its own (graph.SubGraph: the
         # build's cost), made where its nodes stood, so the order holds.
         sub = SubGraph(g, f".{g.tree.name} components {4 * gi}-{4 * gi + 3}", col)
-        firsts = []
-        factors = _factor_reads(sub, gi, per_light, light_image, k, pack, 0)
+        group_address, gate = address, None
+        if last is not None:
+            group_address, gate = _gated(sub, last, address)
+        firsts, spare = [], []
+        factors = _factor_reads(sub, gi, per_light, light_image, k, pack, 0, gate)
         for c in range(4):
             kk = 4 * gi + c
             if kk >= pack.rank:
                 break
-            a = _component(sub, kk, c, coeff_image, address, per_light, factors, sums, pack, 0,
-                           next_image)
+            a = _component(sub, kk, c, coeff_image, group_address, per_light, factors, sums,
+                           pack, 0, next_image)
             if next_image is not None:
                 a, side = a
                 if kk == 0:
                     firsts += list(side)
+                else:
+                    spare.append(side[0])
             if kk == 0:
                 firsts.insert(0, a)
+            read_alpha = a
+        # The next gate's source: the last read's alpha, and the next
+        # atlas's plus_x of components past 0 (a copy of component 0's):
+        # Cycles' Separate Color keeps an output nobody reads on the SVM stack
+        # to the end, so each is read here (min), 1 float a component.
+        for plus in spare:
+            read_alpha = sub.math("MINIMUM", read_alpha, plus, column=0)
         flat = [s for acc in sums if acc is not None for s in (acc if isinstance(acc, list) else [acc])]
-        outs = sub.finish(flat + firsts)
+        outs = sub.finish(flat + firsts + [read_alpha])
         it = iter(outs)
         sums = [None if acc is None else ([next(it) for _ in acc] if isinstance(acc, list)
                                           else next(it)) for acc in sums]
@@ -595,6 +635,7 @@ def _components(g, images, address, per_light, k, pack, col):
             alpha = next(it)
             if next_image is not None:
                 sides = (next(it), next(it))
+        last = next(it)
         col += 6
     if next_image is not None:
         return sums, alpha, col, sides
