@@ -33,6 +33,18 @@ gains W pi L / (E cos) (the exact route's image, same seed, times W pi /
 (E cos)); measured against that prediction (mean ratio within 4 %,
 relative RMSE of the gain within 3 x its noise, from a second seed, + 1 %).
 
+The light rig: the spot and the area light shown again, beside the sun, a
+second area light (a square) and two point lights: 8 light terms (an area
+light is read at two points), past where Cycles' 255-float SVM stack ran out
+before (docs/material.md, "Lights and the SVM stack": black cloth under 3
+point lights on cycles-lit, 5 on exact). Exact route, world black, 4
+samples, one seed: the rig's render equals the sum of the six renders of one
+light each (the others hidden: the drivers zero a hidden light) within float
+rounding (max difference <= 1e-4 x the image's peak). Cycles-lit: the cloth
+is lit, and its mean within 3 x the two-seed noise + 2 % of the exact
+route's (Cycles samples the lights itself; the material's two-point area
+light is its only other difference).
+
     blender -b --factory-startup --python-exit-code 1 -P material_lights.py -- \
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR
 """
@@ -216,6 +228,61 @@ def world_per_route(scene, plane, spot, area, apply_material, material):
                         f"{err:.4f} <= {bound:.4f}")
 
 
+def light_rig(scene, plane, lights, apply_material, material):
+    """The light rig (module docstring). `lights`: the scene's lights so far."""
+    background = scene.world.node_tree.nodes["Background"]
+    background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    for obj in lights:
+        obj.hide_render = False
+    bpy.ops.object.light_add(type="AREA", location=(-2.5, 1.5, 2.5))
+    square = bpy.context.active_object
+    square.data.energy, square.data.shape, square.data.size = 60.0, "SQUARE", 1.2
+    aim(square, (0.0, 0.0, 0.0))
+    for x, y, z, w in ((1.5, 2.0, 1.5, 150.0), (-0.5, -2.0, 1.2, 80.0)):
+        bpy.ops.object.light_add(type="POINT", location=(x, y, z))
+        bpy.context.active_object.data.energy = w
+        bpy.context.active_object.data.shadow_soft_size = 0.0
+    rig = [o for o in scene.objects if o.type == "LIGHT"]
+    terms = sum(2 if o.data.type == "AREA" else 1 for o in rig)
+    kinds = sorted(o.data.type.lower() for o in rig)
+    samples = scene.cycles.samples
+    scene.cycles.samples = 4
+    apply_material(plane, material, route="exact")
+    full = render(os.path.join(TMP, "rig_exact.exr"))
+    total = np.zeros_like(full)
+    for obj in rig:
+        for other in rig:
+            other.hide_render = other is not obj
+        total += render(os.path.join(TMP, f"rig_exact_{obj.name}.exr"))
+    for obj in rig:
+        obj.hide_render = False
+    diff = float(np.abs(full - total).max())
+    cloth = full.mean(axis=2) > 0.02
+    print(f"light rig ({len(rig)} lights, {terms} terms: {', '.join(kinds)}): exact route mean "
+          f"{full[cloth].mean():.4f}, against the sum of the single lights max difference "
+          f"{diff:.2e} (peak {full.max():.4f})", flush=True)
+    check(cloth.mean() > 0.2 and full[cloth].mean() > 0.05,
+          f"the rig's exact route lights the cloth ({cloth.mean():.2f} of the pixels)")
+    check(diff <= 1e-4 * full.max(), f"exact route: the rig's render is the sum of its "
+                                     f"{len(rig)} single-light renders ({diff:.2e} <= "
+                                     f"1e-4 x {full.max():.4f})")
+    scene.cycles.samples = 16
+    exact = render(os.path.join(TMP, "rig_exact16.exr"))
+    apply_material(plane, material, route="cycles-lit")
+    lit = [render(os.path.join(TMP, f"rig_lit_{seed}.exr"), seed=seed) for seed in (1, 2)]
+    scene.cycles.samples = samples
+    means = [float(x[cloth].mean()) for x in lit]
+    noise = abs(means[0] - means[1]) / math.sqrt(2.0) / float(exact[cloth].mean())
+    ratio = means[0] / float(exact[cloth].mean())
+    print(f"light rig, cycles-lit: cloth mean {means[0]:.4f} (seed 2: {means[1]:.4f}), exact "
+          f"route {exact[cloth].mean():.4f}: ratio {ratio:.4f}, noise {noise:.4f}", flush=True)
+    check(min(means) > 0.5 * float(exact[cloth].mean()),
+          f"cycles-lit: the rig lights the cloth (not black: {min(means):.4f})")
+    check(abs(ratio - 1.0) <= 3.0 * noise + 0.02,
+          f"cycles-lit: the rig's cloth mean against the exact route's {ratio:.4f} within "
+          f"3 x {noise:.4f} + 0.02")
+
+
 def main():
     enable_addon().threads = int(THREADS)      # the program's; Cycles' below
     from clothbake.blender.material_apply import apply_material
@@ -267,6 +334,7 @@ def main():
           np.allclose(exported["area"]["size"], [1.875, 1.2], rtol=1e-6),
           f"the export holds the spot and the ellipse ({exported.get('area')})")
     world_per_route(scene, plane, spot, area, apply_material, material)
+    light_rig(scene, plane, [spot, area], apply_material, material)
     print(f"material_lights: {time.time() - T0:.0f} s", flush=True)
 
 
