@@ -14,6 +14,7 @@ from ..core.defaults import DEPTH_SCALE_TOLERANCE
 from ..core.errors import ClothbakeError
 from ..core.material_manifest import SWF
 from ..core.material_pack import pack_material, read_material
+from ..core.svm_budget import stack_note
 from . import material_colours
 from . import patch_nodes
 from .apply import load_data_image
@@ -296,6 +297,9 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
 
     key = os.path.basename(pack.folder)
     kinds = light_kinds(lights)
+    stack = stack_note(kinds, info.parts == SWF, route)
+    if stack:
+        notes.append(stack)
     # A colour-free material's group holds the object's own colour strips:
     # one group per object.
     strips, strips_json = material_colours.make_strips(obj, info) if info.parts == SWF else \

@@ -1,0 +1,54 @@
+"""How many lights the cloth material's node group can read before Cycles
+runs out of its SVM stack.
+
+Cycles compiles a shader's nodes into a program for its SVM (shader virtual
+machine) that keeps every value on a stack of 255 floats until its last
+reader has run. The material's group reads each light at every component
+(docs/material.md, "Lights and the SVM stack"), so each light holds about
+ten floats of that stack for the whole shader: past the limit Cycles prints
+"out of SVM stack space, shader ... too big" and renders the cloth black,
+with nothing in Blender's interface to say why. Eevee and Material Preview
+compile GLSL instead (not measured this far). A hidden light is still read
+(its driver zeroes it, so showing it again needs no new Apply), so only
+lights removed from the scene lower the count.
+
+The limits are measured, not derived (scripts/dev/svm_peak.sh, Cycles 3.4,
+2026-12-04): the paper scene with its lights replaced by N point lights, a
+material of the paper cloth (R 16, K 12, KL 8, 1 sample), rank 24 evaluated
+(the most the add-on evaluates). An area light is read at two points, so it
+counts as two terms; a sun, a point light and a spot count one.
+"""
+
+# (colour-free parts?, route) -> the most light terms that still compile.
+# Peak stack, colour-free, exact: 60 floats at 1 term, 130 at 8, 167 at 12,
+# 207 at 16, 246 at 20, overflow at 21; cycles-lit 253 at 14, overflow at
+# 15. RGB: exact 230 at 20, cycles-lit 226 at 14, and overflow at 21 and 15
+# all the same. scripts/dev/svm_limits.sh measures every edge again.
+LIGHT_TERM_LIMIT = {
+    (True, "exact"): 20,
+    (True, "cycles-lit"): 14,
+    (False, "exact"): 20,
+    (False, "cycles-lit"): 14,
+}
+
+
+def light_terms(kinds):
+    """The light terms of the group for `kinds` (material_nodes.light_kinds:
+    "POINT" for a sun or a point light, "SPOT", "AREA")."""
+    return sum(2 if k == "AREA" else 1 for k in kinds)
+
+
+def stack_note(kinds, colour_free, route):
+    """Apply material's note when the lights are past the measured limit of
+    the route, else None."""
+    terms = light_terms(kinds)
+    limit = LIGHT_TERM_LIMIT[(bool(colour_free), route)]
+    if terms <= limit:
+        return None
+    areas = sum(1 for k in kinds if k == "AREA")
+    counted = f" (an area light counts two: {areas} of them)" if areas else ""
+    return (f"{len(kinds)} lights make {terms} light terms{counted}: past {limit} on the "
+            f"{route} route Cycles runs out of its shader stack ('out of SVM stack space' "
+            "in the console) and renders the cloth black; delete lights the cloth can do "
+            "without (hidden ones still count) and Apply material again "
+            "(docs/material.md, 'Lights and the SVM stack')")

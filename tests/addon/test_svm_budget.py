@@ -1,0 +1,20 @@
+"""Apply material's note on the SVM stack (clothbake.core.svm_budget): the
+count of light terms and the note exactly past the measured limit."""
+from clothbake.core import svm_budget
+
+
+def test_an_area_light_counts_two_terms():
+    assert svm_budget.light_terms(["POINT", "SPOT", "AREA", "AREA"]) == 6
+    assert svm_budget.light_terms([]) == 0
+
+
+def test_the_note_starts_one_term_past_each_limit():
+    for (colour_free, route), limit in svm_budget.LIGHT_TERM_LIMIT.items():
+        assert svm_budget.stack_note(["POINT"] * limit, colour_free, route) is None
+        note = svm_budget.stack_note(["POINT"] * (limit + 1), colour_free, route)
+        assert note is not None and f"past {limit}" in note and route in note
+        # One area light fewer point lights: the same terms, the same verdict.
+        assert svm_budget.stack_note(["AREA"] + ["POINT"] * (limit - 2), colour_free,
+                                     route) is None
+        note = svm_budget.stack_note(["AREA"] + ["POINT"] * (limit - 1), colour_free, route)
+        assert note is not None and "area light counts two" in note
