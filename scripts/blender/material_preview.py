@@ -37,12 +37,10 @@ def view3d():
 
 
 def save_render(path):
-    scene = bpy.context.scene
-    settings = scene.render.image_settings
-    settings.file_format, settings.color_depth = "OPEN_EXR", "32"
-    tmp = path + ".tmp.exr"
-    bpy.data.images["Render Result"].save_render(tmp, scene=scene)
-    os.replace(tmp, path)
+    """The render result as a linear EXR through a temporary sibling (the
+    headless route's writer; import_scene set the EXR format)."""
+    from clothbake.blender.headless import _write_atomic_render
+    _write_atomic_render(path, bpy.context.scene)
 
 
 def setup():
