@@ -202,6 +202,10 @@ void register_material_command(CLI::App& app, Action action) {
                   "light nodes: drawn toward the horizon, or the plain hemi-octahedral square")
       ->transform(CLI::CheckedTransformer(light_maps))
       ->default_str(io::enum_name(io::k_light_map_flags, s.light_map));
+  cmd->add_flag("--view-parallax,!--no-view-parallax", s.view_parallax,
+               "read each view node where its ray meets the eye's at a depth fitted to the "
+               "material (sharper weave between view nodes of a thick cloth)")
+      ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", s.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")
       ->check(tangent_nodes)->capture_default_str();

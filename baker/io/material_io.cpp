@@ -103,6 +103,8 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["max_error"] = s.max_error;
   j["field_supersample"] = s.field_supersample;
   j["fiber_tangent_nodes"] = s.fiber_tangent_nodes;
+  j["view_parallax"] = s.view_parallax;
+  j["parallax_depth_mm"] = m.parallax_depth_mm;
   j["seed"] = s.seed;
   j["optics"] = {{"depth_scale", o.depth_scale},
                  {"extinction_per_mm", o.extinction_per_mm},
@@ -204,6 +206,11 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   s.light_map = DirectionMap::HemiOctahedral;  // manifests older than the horizon map
   read_enum(top, "light_direction_map", k_light_map_names, s.light_map);
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
+  if (top.has("view_parallax")) {  // manifests before it: off
+    const nlohmann::json& vp = top.raw("view_parallax");
+    if (!vp.is_boolean()) top.fail("view_parallax", "must be true or false");
+    s.view_parallax = vp.get<bool>();
+  }
   s.parts = MaterialParts::Rgb;  // version 1
   read_enum(top, "parts", k_material_parts_names, s.parts);
   try {
@@ -390,6 +397,10 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
   m.light_grid.k = m.settings.light_directions;
   m.light_grid.map = m.settings.light_map;
   read_table_shape(top, memory_budget, m);
+  top.read("parallax_depth_mm", m.parallax_depth_mm);
+  if (!(m.parallax_depth_mm >= 0.0f && m.parallax_depth_mm <= m.repeat_mm.z))
+    top.fail("parallax_depth_mm", "must be in [0, the cloth's thickness " +
+                                      std::to_string(m.repeat_mm.z) + " mm]");
   read_shard(top, parts, m);
   if (top.has("bake")) {
     const JsonObject bake = top.object("bake");

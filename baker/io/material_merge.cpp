@@ -9,6 +9,7 @@
 #include "core/material/material_shard.h"
 #include "core/util/error.h"
 #include "io/folder_output.h"
+#include "core/material/view_parallax.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 
@@ -156,6 +157,7 @@ ClothMaterial merge_material_parts(const std::vector<std::string>& dirs, Materia
     info.stats.march_samples += part_info.stats.march_samples;
     info.stats.fiber_evaluations += part_info.stats.fiber_evaluations;
   }
+  if (whole.settings.view_parallax) whole.parallax_depth_mm = fit_view_parallax(whole).depth_mm;
   return whole;
 }
 

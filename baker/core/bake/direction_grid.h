@@ -47,6 +47,11 @@ struct DirectionGrid {
   int node_index(int side, int i, int j) const { return (side * k + j) * k + i; }
   /// Unit direction of a node (toward the eye, local frame).
   Imath::V3f node_direction(int side, int i, int j) const;
+  /// The same for a node index.
+  Imath::V3f node_direction(int node) const {
+    const int rem = node % nodes_per_side();
+    return node_direction(node / nodes_per_side(), rem % k, rem / k);
+  }
 
   /// The direction a node is baked from: its own, except on the horizon,
   /// where a ray parallel to the surface never enters the volume; there the

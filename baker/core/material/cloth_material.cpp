@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/material/view_parallax.h"
 #include "core/util/vector_math.h"
 
 namespace clothbake {
@@ -168,6 +169,8 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     if (wv[c] == 0.0f) continue;
     const int v = views[c];
     const int rk = rank[v];
+    const Imath::V2f shift =
+        parallax_shift_mm(to_eye, view_grid.node_direction(v), parallax_depth_mm, optics.depth_scale);
     // The side the view node's ray runs toward across the threads: its
     // neighbours' colours are those of the owner + 1 or - 1.
     const V3f ray = parts ? -view_grid.bake_direction(v) : V3f(0.0f);
@@ -201,8 +204,8 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
       const int rows = parts ? int(yarn->weft.levels[size_t(m)].size()) : side;
       int ca, ra;
       float fx, fy;
-      wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, cols, 1.0f / float(cols), ca, fx);
-      wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, rows, 1.0f / float(rows), ra, fy);
+      wrap_floor((x_mm + shift.x) / repeat_mm.x * float(side) - 0.5f, cols, 1.0f / float(cols), ca, fx);
+      wrap_floor((y_mm + shift.y) / repeat_mm.y * float(side) - 0.5f, rows, 1.0f / float(rows), ra, fy);
       const int cb = ca + 1 == cols ? 0 : ca + 1, rb = ra + 1 == rows ? 0 : ra + 1;
       const int xa = ca % side, xb = cb % side, ya = ra % side, yb = rb % side;
       const size_t base = size_t(v) * size_t(side) * side;

@@ -68,6 +68,9 @@ class ClothMaterial {
   /// diffuse of the threads next to the texel's own, on the side the view
   /// ray runs toward (its view node's), shown in those threads' colours.
   std::vector<std::vector<Imath::V2f>> coefficients_next;
+  /// The depth (texture mm) at which shade() aligns neighbouring view nodes
+  /// (view_parallax.h); 0: no shift, each node read at the eye's x.
+  float parallax_depth_mm = 0.0f;
   /// Per level: [view * texels_m + texel], texel = y * side + x.
   std::vector<std::vector<float>> alpha;
   /// [(view * light_nodes + node) * max_rank + k].
@@ -108,7 +111,8 @@ class ClothMaterial {
   /// What the point (x_mm, y_mm) of the repeat's top face shows toward
   /// `to_eye` (material frame) under `lights`, read at the level whose
   /// texels are `footprint_texels` level-0 texels wide (trilinear between
-  /// levels, bilinear between texels, view nodes and light nodes). A
+  /// levels, bilinear between texels, view nodes and light nodes; each view
+  /// node read where parallax_depth_mm aligns it with the eye's ray). A
   /// colour-free material takes its yarn colours from `yarn` (null: the
   /// colours it was baked with), each texel tap with its own column's and
   /// row's colour; x_mm and y_mm may then span the colours' repeat.

@@ -1,4 +1,5 @@
 #include "core/material/material_bake.h"
+#include "core/material/view_parallax.h"
 
 #include <algorithm>
 #include <atomic>
@@ -333,6 +334,9 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
                                    " MiB; raise --max-error, lower --texels or --directions, or "
                                    "raise --memory");
   assemble(factors, material);
+  // A part holds a share of the view nodes: the merge fits the whole.
+  if (settings.view_parallax && shard.whole())
+    material.parallax_depth_mm = fit_view_parallax(material).depth_mm;
   if (stats) {
     *stats = MaterialBakeStats{};
     for (const ViewLocal& l : locals) {

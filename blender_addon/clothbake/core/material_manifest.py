@@ -122,6 +122,14 @@ def read_material(folder):
             raise ClothbakeError(f"must be in {lo}..{hi}", path, key)
     if m.get("direction_map") != SQUARE:
         raise ClothbakeError(f"must be \"{SQUARE}\"", path, "direction_map")
+    parallax = m.get("parallax_depth_mm", 0.0)
+    if not isinstance(parallax, (int, float)) or isinstance(parallax, bool) or parallax != 0:
+        # The node group reads every view node at the eye's point; a
+        # material baked with --view-parallax wants each node read shifted
+        # (baker/core/material/view_parallax.h), which it does not do yet.
+        raise ClothbakeError("is not 0: the material was baked with --view-parallax, which the "
+                             "add-on does not read yet; bake it again without it",
+                             path, "parallax_depth_mm")
     light_map = _field(m, "light_direction_map", str, path)
     if light_map not in (HORIZON, SQUARE):
         raise ClothbakeError(f"must be \"{HORIZON}\" or \"{SQUARE}\"", path, "light_direction_map")
