@@ -206,7 +206,8 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   s.light_map = DirectionMap::HemiOctahedral;  // manifests older than the horizon map
   read_enum(top, "light_direction_map", k_light_map_names, s.light_map);
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);
-  if (top.has("view_parallax")) {  // manifests before it: off
+  s.view_parallax = false;  // manifests before it
+  if (top.has("view_parallax")) {
     const nlohmann::json& vp = top.raw("view_parallax");
     if (!vp.is_boolean()) top.fail("view_parallax", "must be true or false");
     s.view_parallax = vp.get<bool>();

@@ -136,8 +136,8 @@ def test_pack_is_reused_and_remade(material):
     ("ranks", [1, 2], "ranks"),
     ("directions", 1, "directions"),
     ("light_direction_map", "polar", "light_direction_map"),
-    # baked with --view-parallax: the node group does not shift the views yet
-    ("parallax_depth_mm", 0.02, "parallax_depth_mm"),
+    ("parallax_depth_mm", -0.01, "parallax_depth_mm"),
+    ("parallax_depth_mm", 100.0, "parallax_depth_mm"),
 ])
 def test_bad_manifest_names_the_field(material, tmp_path, field, value, text):
     bad = tmp_path / "bad"

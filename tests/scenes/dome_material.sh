@@ -4,8 +4,9 @@
 # spherical cap seen from low over its rim, its flanks and far side at
 # grazing views. lookup-render from a material baked at the defaults against
 # the reference renderer at 256 samples:
-# - per pixel (compare's relative RMSE): held at 13.5 % (measured 12.4 %;
-#   the target of 8 % is not met here, see docs/stability.md);
+# - per pixel (compare's relative RMSE): held at 11.5 % (measured 10.93 %
+#   with the view parallax of the default bake, 12.47 % without it; the
+#   issue's target of 8 % is not met here, see docs/stability.md);
 # - over 8 x 8-pixel blocks (RMSE over RMS): held at 3 % (measured 2.3 %):
 #   the error is at the scale of the weave, not a shading trend;
 # - no worse than the per-scene adaptive bake of the same scene (22.0 %).
@@ -40,6 +41,6 @@ def pooled(a, k=8):
 r, t = pooled(load(f"{tmp}/ref.exr")), pooled(load(f"{tmp}/m.exr"))
 blocks = np.sqrt(((t - r) ** 2).mean()) / np.sqrt((r ** 2).mean())
 print(f"dome: material {m:.4f} per pixel, {blocks:.4f} over 8x8 blocks; per-scene bake {b:.4f}")
-ok = m <= 0.135 and blocks <= 0.03 and m <= b
+ok = m <= 0.115 and blocks <= 0.03 and m <= b
 sys.exit(0 if ok else 1)
 PY

@@ -54,7 +54,7 @@ struct MaterialSettings {
   int fiber_tangent_nodes = 32;
   /// Read each view node where its ray meets the eye's at a depth fitted to
   /// the material (view_parallax.h); off: every node at the eye's x.
-  bool view_parallax = false;
+  bool view_parallax = true;
   uint64_t seed = 1;
   /// Colour-free parts need fibre shading and a volume made colour-free
   /// (core/weave/cloth_colours.h); the command chooses.

@@ -20,7 +20,9 @@ level). Per shading point the group computes, one function a step:
      levels x 4 texels; the pixel's samples average the blend ("stochastic
      texture filtering"). Every image is read with Closest: nothing bleeds
      between tiles, and Eevee's GPU mip-maps (which an atlas cannot use)
-     never come into play;
+     never come into play. A material baked with --view-parallax reads the
+     picked view node shifted to where its ray meets the eye's at the
+     material's fitted depth (_parallax_shift; baker view_parallax.h);
   5. per light (_light), its direction's light factors (resampled densely
      in the pack, so a stochastic bilinear read stands in for clothbake's
      Catmull-Rom), times its irradiance: W_k = sum_l E_l F_k(v, l). A sun's
@@ -70,6 +72,7 @@ from .graph import Graph, SubGraph
 GROUP_VERSION = 5
 STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
 FRAME_SCALE_ATTRIBUTE = "clothbake_frame_scale"  # likewise: (e, 1 / e, depth ratio) per face
+PARALLAX_MIN_Z = 0.0174524  # sin(1 deg): view_parallax.h k_parallax_min_z, the bake's horizon clamp
 BLACK = (0.0, 0.0, 0.0, 1.0)
 
 # The frame of step 1: `facing` is Geometry's normal (toward the viewer),
@@ -265,11 +268,13 @@ def _scaled(g, frame, x, y, z, column):
 
 
 def _view_direction(g, frame):
-    """Step 1: the direction toward the eye in the frame: (z, its side, u, v)."""
+    """Step 1: the direction toward the eye in the frame: (z, its side, u, v,
+    the material-frame vector (x, y, z) that u, v encode, not normalised)."""
     vx, vy, vz = _local(g, frame, frame.geometry.outputs["Incoming"], 2)
     view_side = g.math("LESS_THAN", vz, 0.0, column=3)
-    vu, vv = _hemi(g, *_scaled(g, frame, vx, vy, vz, 3), 3)
-    return vz, view_side, vu, vv
+    scaled = _scaled(g, frame, vx, vy, vz, 3)
+    vu, vv = _hemi(g, *scaled, 3)
+    return vz, view_side, vu, vv, scaled
 
 
 def _randoms(g, position, area=False):
@@ -294,11 +299,47 @@ def _randoms(g, position, area=False):
 
 
 def _view_node(g, k, view_side, vu, vv, xi_i, xi_j):
-    """Step 4: the view node (i, side K + j), picked stochastically."""
+    """Step 4: the view node (i, side K + j), picked stochastically; and j."""
     vi = _pick(g, vu, k, xi_i, 5)
     vj = _pick(g, vv, k, xi_j, 5)
     view_row = g.math("MULTIPLY_ADD", view_side, float(k), vj, column=6)   # side K + j
-    return vi, view_row
+    return vi, view_row, vj
+
+
+def _slope(g, x, y, z, column):
+    """view_parallax.h's material_slope of (x, y, z), not normalised:
+    (x, y) / max(|z|, sin(1 deg) |(x, y, z)|)."""
+    length = g.math("SQRT", g.math("ADD", g.math("MULTIPLY", x, x, column=column), g.math(
+        "MULTIPLY_ADD", y, y, g.math("MULTIPLY", z, z, column=column), column=column),
+        column=column), column=column)
+    den = g.math("MAXIMUM", g.math("ABSOLUTE", z, column=column),
+                 g.math("MULTIPLY", length, PARALLAX_MIN_Z, column=column), column=column)
+    return (g.math("DIVIDE", x, den, column=column + 1),
+            g.math("DIVIDE", y, den, column=column + 1))
+
+
+def _parallax_shift(g, info, scaled, vi, vj):
+    """Step 4b, for a material baked with --view-parallax: where the picked
+    view node is read, in repeats added to the UV's: view_parallax.h's
+    parallax_shift_mm over repeat_mm, -h / depth_scale (slope(eye) -
+    slope(node)), the node's direction decoded from its (i, j) on the
+    hemi-octahedral square (only |z| counts, so either side)."""
+    k = info.k
+    ex, ey = _slope(g, *scaled, 6)
+    a = g.math("MULTIPLY_ADD", vi, 2.0 / (k - 1), -1.0, column=6)
+    b = g.math("MULTIPLY_ADD", vj, 2.0 / (k - 1), -1.0, column=6)
+    px = g.math("MULTIPLY", g.math("ADD", a, b, column=6), 0.5, column=6)
+    py = g.math("MULTIPLY", g.math("SUBTRACT", a, b, column=6), 0.5, column=6)
+    pz = g.math("MAXIMUM", g.math("SUBTRACT", g.math("SUBTRACT", 1.0, g.math(
+        "ABSOLUTE", px, column=6), column=6), g.math("ABSOLUTE", py, column=6), column=6), 0.0,
+        column=6)
+    nx, ny = _slope(g, px, py, pz, 7)
+    factor = -info.parallax_depth_mm / info.depth_scale
+    du = g.math("MULTIPLY", g.math("SUBTRACT", ex, nx, column=8),
+                factor / info.repeat_mm[0], column=8)
+    dv = g.math("MULTIPLY", g.math("SUBTRACT", ey, ny, column=8),
+                factor / info.repeat_mm[1], column=8)
+    return du, dv
 
 
 def _level(g, gin, info, position, vz, xi):
@@ -338,13 +379,17 @@ def _level(g, gin, info, position, vz, xi):
     return side_texels, pitch, y_level, level
 
 
-def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y):
+def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
     """Steps 2 and 4: the texel (periodic, stochastic bilinear) and the
     address of component 0's tile; returns (uv0, the step to component k,
-    Texel: where the pick landed, for the colour strips)."""
+    Texel: where the pick landed, for the colour strips). `shift`: the view
+    node's parallax shift in repeats (_parallax_shift), or None."""
     vi, view_row = view
     side_texels, pitch, y_level, level_index = level
     ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
+    if shift is not None:
+        ux = g.math("ADD", ux, shift[0], column=7)
+        uy = g.math("ADD", uy, shift[1], column=7)
 
     def texel(coord, xi, column):
         t = g.math("MULTIPLY", g.math("FRACT", coord, column=column), side_texels, column=column)
@@ -808,6 +853,8 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
         kinds = ["POINT"] * kinds
     key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
           f"{layout_suffix(kinds)} {route} {pack.width}x{pack.height}"
+    if info.parallax_depth_mm > 0:
+        key += f" parallax {info.parallax_depth_mm!r}"
     if strips is not None:
         key += f" {info.parts} {strips.warp.name} {strips.q_warp} {tuple(strips.warp.size)}" \
                f" {strips.weft.name} {strips.q_weft} {tuple(strips.weft.size)}"
@@ -820,12 +867,14 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     lit = route == "cycles-lit"
     frame = _frame(g, gin)
     position = frame.geometry.outputs["Position"]
-    vz, view_side, vu, vv = _view_direction(g, frame)
+    vz, view_side, vu, vv, scaled = _view_direction(g, frame)
     xis = _randoms(g, position, area="AREA" in kinds)
     xi1, xi2, xi3, xi4, xi5, xi6, xi7 = xis[:7]
-    view = _view_node(g, info.k, view_side, vu, vv, xi1, xi2)
+    vi, view_row, vj = _view_node(g, info.k, view_side, vu, vv, xi1, xi2)
+    view = (vi, view_row)
+    shift = _parallax_shift(g, info, scaled, vi, vj) if info.parallax_depth_mm > 0 else None
     level = _level(g, gin, info, position, vz, xi3)
-    address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5)
+    address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5, shift)
     places = None if strips is None else _strip_places(g, address[2], strips, 12)
     per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, kinds, lit,
                                     (xi6, xi7) + tuple(xis[7:]), 13)

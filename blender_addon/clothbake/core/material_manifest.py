@@ -41,6 +41,7 @@ class MaterialInfo:
     # SWF only, per family ("warp", "weft"):
     centres_mm: dict = None   # each thread's centre over one repeat, mm (x: warp, y: weft)
     colors: dict = None       # the baked-with colours: {"color": [r, g, b], "colors": [...]}
+    parallax_depth_mm: float = 0.0  # --view-parallax's depth (view_parallax.h); 0: none
 
     @property
     def channels(self):
@@ -122,14 +123,6 @@ def read_material(folder):
             raise ClothbakeError(f"must be in {lo}..{hi}", path, key)
     if m.get("direction_map") != SQUARE:
         raise ClothbakeError(f"must be \"{SQUARE}\"", path, "direction_map")
-    parallax = m.get("parallax_depth_mm", 0.0)
-    if not isinstance(parallax, (int, float)) or isinstance(parallax, bool) or parallax != 0:
-        # The node group reads every view node at the eye's point; a
-        # material baked with --view-parallax wants each node read shifted
-        # (baker/core/material/view_parallax.h), which it does not do yet.
-        raise ClothbakeError("is not 0: the material was baked with --view-parallax, which the "
-                             "add-on does not read yet; bake it again without it",
-                             path, "parallax_depth_mm")
     light_map = _field(m, "light_direction_map", str, path)
     if light_map not in (HORIZON, SQUARE):
         raise ClothbakeError(f"must be \"{HORIZON}\" or \"{SQUARE}\"", path, "light_direction_map")
@@ -142,6 +135,13 @@ def read_material(folder):
     if not isinstance(repeat, list) or len(repeat) != 3 or \
             not all(isinstance(x, (int, float)) and x > 0 for x in repeat):
         raise ClothbakeError("must be 3 positive numbers", path, "repeat_mm")
+    # --view-parallax: the depth at which each view node is read shifted
+    # (baker/core/material/view_parallax.h); 0 or absent: no shift.
+    parallax = m.get("parallax_depth_mm", 0.0)
+    if not isinstance(parallax, (int, float)) or isinstance(parallax, bool) or \
+            not 0 <= parallax <= float(repeat[2]):
+        raise ClothbakeError(f"must be a number in [0, {float(repeat[2]):g}] (the cloth's "
+                             "thickness, mm)", path, "parallax_depth_mm")
     optics = m.get("optics")
     if not isinstance(optics, dict) or not isinstance(optics.get("depth_scale"), (int, float)):
         raise ClothbakeError("must hold depth_scale", path, "optics")
@@ -155,7 +155,7 @@ def read_material(folder):
     return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
                         repeat, float(optics["depth_scale"]),
                         str(cloth.get("name", "")), str(cloth.get("hash", "")), parts,
-                        centres, colors)
+                        centres, colors, float(parallax))
 
 
 def _rgb(value):
