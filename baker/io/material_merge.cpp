@@ -7,9 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/material/material_shard.h"
+#include "core/material/view_parallax.h"
 #include "core/util/error.h"
 #include "io/folder_output.h"
-#include "core/material/view_parallax.h"
 #include "io/json_reader.h"
 #include "io/text_file.h"
 

@@ -1,5 +1,4 @@
 #include "core/material/material_bake.h"
-#include "core/material/view_parallax.h"
 
 #include <algorithm>
 #include <atomic>
@@ -13,6 +12,7 @@
 
 #include "core/march/sample_march.h"
 #include "core/material/material_shard.h"
+#include "core/material/view_parallax.h"
 #include "core/util/error.h"
 #include "core/util/random.h"
 
