@@ -7,7 +7,8 @@
 # sample, as the table was measured), makes the paper scene with its lights
 # replaced by N point lights on a ring, and for each (parts, route) of
 # LIGHT_TERM_LIMIT renders N = limit (must compile) and N = limit + 1 (must
-# overflow) through scripts/dev/svm_peak.sh. Prints every peak; exits 1 when
+# overflow), N counting the lights' terms (limit less the route's world
+# terms, svm_budget.WORLD_TERMS) through scripts/dev/svm_peak.sh. Prints every peak; exits 1 when
 # a limit in the table is not the edge this Blender shows. About 30 minutes
 # on 2 cores (each render builds and compiles a 6000-node shader).
 set -euo pipefail
@@ -22,9 +23,9 @@ for parts in specular-warp-weft rgb; do
 done
 # The table, and the scenes its edges need.
 limits=$(cd "$root/blender_addon" && /usr/bin/python3 -c '
-from clothbake.core.svm_budget import LIGHT_TERM_LIMIT
+from clothbake.core.svm_budget import LIGHT_TERM_LIMIT, WORLD_TERMS
 for (cf, route), n in sorted(LIGHT_TERM_LIMIT.items()):
-    print("specular-warp-weft" if cf else "rgb", route, n)')
+    print("specular-warp-weft" if cf else "rgb", route, n - WORLD_TERMS[route])')
 /usr/bin/python3 - "$root" "$work" $(echo "$limits" | awk '{print $3, $3 + 1}') <<'EOF'
 import json, math, sys
 root, work, counts = sys.argv[1], sys.argv[2], sorted(set(map(int, sys.argv[3:])))

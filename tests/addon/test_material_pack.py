@@ -103,6 +103,55 @@ def test_dense_light_grid_holds_the_nodes(material):
 
 
 @pytest.mark.parametrize("light_map", [mp.HORIZON, mp.SQUARE])
+def test_world_weights_integrate_the_hemisphere(light_map):
+    """Exact limits: factors of 1 on every node of a side integrate to that
+    hemisphere's 2 pi (Catmull-Rom weights sum to 1, the lattice's areas to
+    2 pi), nothing from the other side; factors equal to the node's cosine
+    |z| integrate to pi, up to the interpolation between 16 x 16 nodes."""
+    kl = 16
+    w = mp.world_weights(kl, light_map, samples=1 << 14)
+    n = kl * kl
+    for side in (0, 1):
+        ones = np.zeros(2 * n)
+        ones[side * n:(side + 1) * n] = 1.0
+        assert w[side] @ ones == pytest.approx(2 * np.pi, rel=1e-12)
+        assert w[1 - side] @ ones == pytest.approx(0.0, abs=1e-12)
+    g = np.arange(kl) / (kl - 1)
+    u, v = np.meshgrid(g, g)       # node (i, j) at index j kl + i
+    if light_map == mp.HORIZON:
+        u, v = mp.horizon_from_grid(u, v)
+    z = mp.hemi_oct_decode(u, v)[..., 2].reshape(-1)
+    cosine = np.concatenate([z, z])
+    assert w[0] @ cosine == pytest.approx(np.pi, rel=5e-3)
+    assert w[1] @ cosine == pytest.approx(np.pi, rel=5e-3)
+
+
+def test_world_factors_at_the_node_trees_address(material):
+    """Each view node's world factors, its own hemisphere (ws 0) and the
+    other (ws 1), where material_nodes._world reads them."""
+    info = mp.read_material(material)
+    pack = mp.pack_material(info, rank=64, dense=5)
+    lf, names = read(os.path.join(material, "light_factors.exr"))
+    dense, _ = read(pack.light_factors)
+    dense = dense[::-1]
+    k, q = info.k, pack.dense + 2
+    assert dense.shape[:2] == (pack.light_height, pack.light_width) == \
+        (2 * k * q + 2 * k, pack.groups * k * 2 * q)
+    w = mp.world_weights(info.kl, info.light_map)
+    for v in range(2 * k * k):
+        sv, rest = divmod(v, k * k)
+        j, i = divmod(rest, k)
+        for comp in range(pack.rank):
+            g, c = divmod(comp, 4)
+            f = lf[v, :, names.index(f"k{comp:04d}")].astype(np.float64)
+            for ws in (0, 1):
+                x = ((g * k + i) * 2 + ws) * q + 1
+                want = w[sv if ws == 0 else 1 - sv] @ f
+                assert dense[2 * k * q + sv * k + j, x, c] == pytest.approx(
+                    want, rel=1e-5, abs=1e-7)
+
+
+@pytest.mark.parametrize("light_map", [mp.HORIZON, mp.SQUARE])
 def test_catmull_rom_weights_sum_to_one(light_map):
     rng = np.random.default_rng(1)
     d = rng.normal(size=(500, 3))

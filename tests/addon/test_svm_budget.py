@@ -8,11 +8,19 @@ def test_an_area_light_counts_two_terms():
     assert svm_budget.light_terms([]) == 0
 
 
+def test_the_world_counts_two_terms_on_cycles_lit():
+    assert svm_budget.light_terms([], "cycles-lit") == 2
+    assert svm_budget.light_terms(["AREA"], "cycles-lit") == 4
+    assert svm_budget.light_terms(["AREA"], "exact") == 2
+
+
 def test_the_note_starts_one_term_past_each_limit():
-    for (colour_free, route), limit in svm_budget.LIGHT_TERM_LIMIT.items():
+    for (colour_free, route), terms in svm_budget.LIGHT_TERM_LIMIT.items():
+        limit = terms - svm_budget.WORLD_TERMS[route]     # lights' own terms
         assert svm_budget.stack_note(["POINT"] * limit, colour_free, route) is None
         note = svm_budget.stack_note(["POINT"] * (limit + 1), colour_free, route)
-        assert note is not None and f"past {limit}" in note and route in note
+        assert note is not None and f"past {terms}" in note and route in note
+        assert ("the world counts 2" in note) == (route == "cycles-lit")
         # One area light fewer point lights: the same terms, the same verdict.
         assert svm_budget.stack_note(["AREA"] + ["POINT"] * (limit - 2), colour_free,
                                      route) is None

@@ -18,7 +18,7 @@ from ..core.svm_budget import stack_note
 from . import material_colours
 from . import patch_nodes
 from .apply import load_data_image
-from .material_drivers import drive_camera, drive_light
+from .material_drivers import drive_camera, drive_light, drive_world
 from .material_nodes import (FRAME_SCALE_ATTRIBUTE, STRETCH_ATTRIBUTE, build_group,
                              layout_suffix, light_kinds)
 
@@ -293,7 +293,9 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     lights, notes = scene_lights(scene)
     if not lights:
         notes.append("the scene has no light: the cloth renders black until one is added "
-                     "and the material applied again")
+                     "and the material applied again" if route != "cycles-lit" else
+                     "the scene has no light: the cloth is lit by the world alone until one "
+                     "is added and the material applied again")
 
     key = os.path.basename(pack.folder)
     kinds = light_kinds(lights)
@@ -326,6 +328,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     drive_camera(node, scene)
     for l, light in enumerate(lights):
         drive_light(node, l, light)
+    notes += drive_world(node, scene)
     material.blend_method = "HASHED"        # Eevee: stochastic alpha, converges with samples
     if hasattr(material, "shadow_method"):
         material.shadow_method = "HASHED" if route == "cycles-lit" else "NONE"

@@ -115,3 +115,73 @@ def drive_camera(node, scene):
              ("p", "SINGLE_PROP", scene, "SCENE", "render.resolution_percentage")])
     _driver(node.inputs["Samples"], None, "s",
             [("s", "SINGLE_PROP", scene, "SCENE", "cycles.samples")])
+
+
+def _environment_mean(node):
+    """The mean radiance of an Environment Texture's image over the sphere
+    (equirectangular rows weighted by cos(latitude)), RGB, or None when it
+    holds no pixels."""
+    import numpy as np
+    image = getattr(node, "image", None)
+    if image is None or image.size[0] == 0 or image.size[1] == 0:
+        return None
+    w, h = image.size
+    px = np.empty(w * h * image.channels, np.float32)
+    image.pixels.foreach_get(px)
+    px = px.reshape(h, w, image.channels)[..., :3].astype(np.float64)
+    lat = (np.arange(h) + 0.5) / h * np.pi - 0.5 * np.pi      # bottom row first
+    weight = np.cos(lat)[:, None, None]
+    return tuple((px * weight).sum((0, 1)) / (weight.sum() * w))
+
+
+def drive_world(node, scene):
+    """The group's World radiance (cycles-lit route, material_nodes._world):
+    the scene world's Background colour x strength, a live driver through
+    scene.world (so another world assigned later is followed too). Where
+    the colour is linked: an Environment Texture's image is averaged over
+    the sphere now (its mean x the live strength; painting the image or
+    swapping it needs Apply again), anything else (a sky, a gradient)
+    counts as its Background node's unlinked colour. Returns the notes."""
+    socket = node.inputs.get("World radiance")
+    if socket is None:
+        return []
+    world = scene.world
+    if world is None:
+        socket.default_value = (0.0, 0.0, 0.0)
+        return []
+    if not world.use_nodes or world.node_tree is None:
+        for axis in range(3):
+            _driver(socket, axis, "c", [("c", "SINGLE_PROP", scene, "SCENE",
+                                         f"world.color[{axis}]")])
+        return []
+    background = next((n for n in world.node_tree.nodes if n.type == "BACKGROUND"
+                       and any(l.to_node.type == "OUTPUT_WORLD" for l in n.outputs[0].links)),
+                      None)
+    if background is None:
+        socket.default_value = (0.0, 0.0, 0.0)
+        return [f"the world '{world.name}' has no Background node into its output: the "
+                "cloth material takes no light from it"]
+    path = f'world.node_tree.nodes["{background.name}"].inputs'
+    strength = ("s", "SINGLE_PROP", scene, "SCENE", f"{path}[1].default_value")
+    colour_in = background.inputs[0]
+    notes = []
+    mean = None
+    if colour_in.is_linked:
+        source = colour_in.links[0].from_node
+        if source.type == "TEX_ENVIRONMENT":
+            mean = _environment_mean(source)
+        if mean is None:
+            notes.append(f"the world '{world.name}''s colour comes from a "
+                         f"'{source.bl_label}' node: the cloth material takes the Background "
+                         "node's own colour as the world's light instead")
+        else:
+            notes.append(f"the world '{world.name}''s image is taken as its mean colour "
+                         f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) x strength: apply the "
+                         "material again after changing the image")
+    for axis in range(3):
+        if mean is not None:
+            _driver(socket, axis, f"{mean[axis]!r}*s", [strength])
+        else:
+            _driver(socket, axis, "c*s", [("c", "SINGLE_PROP", scene, "SCENE",
+                                           f"{path}[0].default_value[{axis}]"), strength])
+    return notes

@@ -69,7 +69,7 @@ import bpy
 from ..core.material_manifest import HORIZON
 from .graph import Graph, SubGraph
 
-GROUP_VERSION = 5
+GROUP_VERSION = 6
 STRETCH_ATTRIBUTE = "clothbake_world_per_uv"   # material_apply writes it
 FRAME_SCALE_ATTRIBUTE = "clothbake_frame_scale"  # likewise: (e, 1 / e, depth ratio) per face
 PARALLAX_MIN_Z = 0.0174524  # sin(1 deg): view_parallax.h k_parallax_min_z, the bake's horizon clamp
@@ -151,10 +151,14 @@ def _colour_inputs(group):
         s.default_value, s.min_value, s.max_value = 0.0, 0.0, 1.0
 
 
-def _new_group(name, key, kinds, strips=None):
+def _new_group(name, key, kinds, strips=None, lit=False):
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
     group["clothbake_key"] = key
     _inputs(group, kinds)
+    if lit:
+        # The world's radiance, uniform (material_drivers.drive_world): the
+        # cycles-lit route's world term (_world).
+        group.inputs.new("NodeSocketVector", "World radiance")
     if strips is not None:
         _colour_inputs(group)
     group.outputs.new("NodeSocketShader", "Shader")
@@ -540,6 +544,30 @@ def _lights(g, gin, frame, position, view, info, pack, kinds, lit, xis, col):
     return per_light, denom, col
 
 
+def _world(g, gin, view, pack, k, col):
+    """Step 5 for the world, on the cycles-lit route: a uniform world of
+    radiance W adds W sum_k C_k G_k(v), G the light factors integrated over
+    a hemisphere (material_pack's world factors), G over the viewer's
+    hemisphere into the front sum (so the Diffuse closure, lit by Cycles'
+    own world, carries it) and over the other into the sum from behind.
+    Two LightTerms, read like a light's factors at the picked view node;
+    and the cycles-lit denominator's world term pi W, the irradiance a
+    uniform world gives a Lambertian closure over its open hemisphere.
+    Returns ([LightTerm front, LightTerm behind], pi W)."""
+    vi, view_row = view
+    q = pack.dense + 2
+    x = g.math("MULTIPLY_ADD", vi, 2.0 * q, 1.5, column=col)           # pixel centre, ws = 0
+    y = g.math("ADD", view_row, 2.0 * k * q + 0.5, column=col)
+    u = g.math("DIVIDE", x, float(pack.light_width), column=col)
+    v = g.math("DIVIDE", y, float(pack.light_height), column=col)
+    front = g.combine(u, v, 0.0, column=col)
+    behind = g.combine(g.math("ADD", u, float(q) / pack.light_width, column=col), v, 0.0,
+                       column=col)
+    radiance = g.ready(gin["World radiance"], "RGBA")
+    return [LightTerm(front, [(radiance, 0)]), LightTerm(behind, [(radiance, 1)])], \
+        _mix(g, "ADD", BLACK, radiance, math.pi, col)
+
+
 def _factor_reads(g, gi, per_light, light_image, k, pack, col, gate=None):
     """Each light's factors of components 4 gi .. 4 gi + 3: (R, G, B, A);
     the addresses times `gate` (_gated: exactly 1) when there is one."""
@@ -861,10 +889,10 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     old = bpy.data.node_groups.get(name)
     if old is not None and old.get("clothbake_key") == key:
         return old
-    group = _new_group(name, key, kinds, strips)
+    lit = route == "cycles-lit"
+    group = _new_group(name, key, kinds, strips, lit)
     g = Graph(group)
     gin = g.node("NodeGroupInput", 0).outputs
-    lit = route == "cycles-lit"
     frame = _frame(g, gin)
     position = frame.geometry.outputs["Position"]
     vz, view_side, vu, vv, scaled = _view_direction(g, frame)
@@ -878,6 +906,11 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     places = None if strips is None else _strip_places(g, address[2], strips, 12)
     per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, kinds, lit,
                                     (xi6, xi7) + tuple(xis[7:]), 13)
+    if lit:
+        world, world_denom = _world(g, gin, view, pack, info.k, col)
+        per_light += world
+        denom = world_denom if denom is None else _mix(g, "ADD", denom, world_denom, 1.0, col)
+        col += 1
     if strips is None:
         sums, alpha, col = _components(g, (coeff_image, light_image), address, per_light,
                                        info.k, pack, col)

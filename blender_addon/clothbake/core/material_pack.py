@@ -35,6 +35,14 @@ light factors (`light_factors.exr`, float RGBA):
     node (side_v, i, j), component group g (components 4g .. 4g+3 in RGBA),
     light side sl: bottom-left pixel (((g K + i) 2 + sl) Q, (side_v K + j) Q),
     Q = M + 2; direction grid node (a, b) is pixel (1 + a, 1 + b) of it.
+    Above the tiles, rows [2 K Q, 2 K Q + 2 K): the world factors
+    G(v, k, ws) = integral over a hemisphere of F(v, l, k) d omega_l (the
+    light factors as clothbake interpolates them, world_weights), ws = 0
+    the hemisphere on the view node's own side, 1 the other: view node
+    (side_v, i, j), group g at pixel (((g K + i) 2 + ws) Q + 1,
+    2 K Q + side_v K + j), the same stride per group as the tiles, so a
+    uniform world of radiance W adds W sum_k C_k G_k (the cycles-lit
+    route's world term, material_nodes._world).
 
 The first `rank` components of each view node are kept (the SVD orders them
 by singular value, so this is each view's best rank-`rank` truncation).
@@ -44,6 +52,7 @@ pack.json, written through a temporary folder and a rename, and are reused
 while the material's manifest is unchanged.
 """
 import hashlib
+import math
 import json
 import os
 import shutil
@@ -60,9 +69,10 @@ from .yarn_colours import next_sides
 from .material_manifest import (FORMAT, HORIZON, SQUARE, SWF, MaterialInfo,  # noqa: F401
                                 is_material_folder, read_material)
 
-PACK_VERSION = 4
+PACK_VERSION = 5
 DEFAULT_RANK = 24       # components Blender evaluates (node count grows with it)
 DEFAULT_DENSE = 32      # light directions per side of the resampled grid
+WORLD_SAMPLES = 1 << 16  # directions per hemisphere of the world factors' quadrature
 MAX_WIDTH = 8192        # widest coefficient image: Blender 3.4's Cycles read images
                         # 15232 and 16320 pixels wide as garbage, 13056 right
 MAX_SIDE = 16384        # largest texture side Eevee (Mesa llvmpipe) accepts
@@ -113,6 +123,28 @@ def dense_light_directions(m, light_map=SQUARE):
     back = d.copy()
     back[:, 2] = -back[:, 2]
     return np.concatenate([d, back]), np.repeat([0, 1], m * m)
+
+
+def world_weights(kl, light_map, samples=WORLD_SAMPLES):
+    """(2, 2 kl^2): per hemisphere (0: z >= 0), weights over the light
+    nodes whose dot product with a view node's factors F(v, ., k) is the
+    integral of F over that hemisphere in solid angle, F interpolated
+    between the nodes as clothbake's lookup does (light_node_weights). The
+    quadrature: `samples` directions of a Fibonacci lattice, equal areas
+    (z uniform in (0, 1), the golden angle around), each 2 pi / samples."""
+    n = np.arange(samples) + 0.5
+    z = n / samples
+    phi = n * (math.pi * (3.0 - math.sqrt(5.0)))
+    r = np.sqrt(1.0 - z * z)
+    front = np.stack([r * np.cos(phi), r * np.sin(phi), z], -1)
+    out = np.zeros((2, 2 * kl * kl))
+    for side in (0, 1):
+        d = front if side == 0 else front * np.array([1.0, 1.0, -1.0])
+        for start in range(0, samples, 4096):
+            chunk = d[start:start + 4096]
+            out[side] += light_node_weights(chunk, kl, light_map,
+                                            np.full(len(chunk), side)).sum(0)
+    return out * (2.0 * math.pi / samples)
 
 
 # --- packing ---------------------------------------------------------------
@@ -219,7 +251,7 @@ def _layout(info, rank, dense):
     q = dense + 2
     return Pack(folder, os.path.join(folder, "coefficients.exr"),
                 os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
-                per_row, band, groups * info.k * 2 * q, 2 * info.k * q, groups,
+                per_row, band, groups * info.k * 2 * q, 2 * info.k * q + 2 * info.k, groups,
                 os.path.join(folder, "coefficients_next.exr") if info.parts == SWF else "")
 
 
@@ -294,6 +326,18 @@ def _light_factor_image(info, pack):
     dense_f = np.einsum("dn,vnc->vdc", weights, f.astype(np.float64)).astype(np.float32)
     dense_f = dense_f.reshape(2, k, k, 2, dense, dense, groups, 4)  # sv, j, i, sl, b, a, g, c
     lights = np.zeros((pack.light_height, pack.light_width, 4), np.float32)
+    # The world factors: per view node, the hemisphere on its own side and
+    # the other (module docstring).
+    hemis = world_weights(info.kl, info.light_map)
+    world = np.einsum("sn,vnc->vsc", hemis, f.astype(np.float64))       # (views, 2, groups*4)
+    world = world.reshape(2, k, k, 2, groups, 4)                          # sv, j, i, sl, g, c
+    for g in range(groups):
+        for sv in range(2):
+            for j in range(k):
+                for i in range(k):
+                    for ws in range(2):
+                        x = ((g * k + i) * 2 + ws) * q + 1
+                        lights[2 * k * q + sv * k + j, x] = world[sv, j, i, sv ^ ws, g]
     for g in range(groups):
         block = np.pad(dense_f[..., g, :], ((0, 0),) * 4 + ((1, 1), (1, 1), (0, 0)), mode="edge")
         for sv in range(2):

@@ -16,7 +16,11 @@ The limits are measured, not derived (scripts/dev/svm_peak.sh, Cycles 3.4,
 2026-12-04): the paper scene with its lights replaced by N point lights, a
 material of the paper cloth (R 16, K 12, KL 8, 1 sample), rank 24 evaluated
 (the most the add-on evaluates). An area light is read at two points, so it
-counts as two terms; a sun, a point light and a spot count one.
+counts as two terms; a sun, a point light and a spot count one. On the
+cycles-lit route the world's term (two reads per group of four components:
+material_nodes._world) counts two as well: 12 point lights and the world
+compiled at a peak of 244 floats, 13 and the world overflowed (colour-free,
+2026-12-05).
 """
 
 # (colour-free parts?, route) -> the most light terms that still compile.
@@ -32,21 +36,29 @@ LIGHT_TERM_LIMIT = {
 }
 
 
-def light_terms(kinds):
+# The world's terms per route: cycles-lit reads the world's factors twice.
+WORLD_TERMS = {"exact": 0, "cycles-lit": 2}
+
+
+def light_terms(kinds, route="exact"):
     """The light terms of the group for `kinds` (material_nodes.light_kinds:
-    "POINT" for a sun or a point light, "SPOT", "AREA")."""
-    return sum(2 if k == "AREA" else 1 for k in kinds)
+    "POINT" for a sun or a point light, "SPOT", "AREA") on `route`, the
+    world's included."""
+    return sum(2 if k == "AREA" else 1 for k in kinds) + WORLD_TERMS[route]
 
 
 def stack_note(kinds, colour_free, route):
     """Apply material's note when the lights are past the measured limit of
     the route, else None."""
-    terms = light_terms(kinds)
+    terms = light_terms(kinds, route)
     limit = LIGHT_TERM_LIMIT[(bool(colour_free), route)]
     if terms <= limit:
         return None
     areas = sum(1 for k in kinds if k == "AREA")
-    counted = f" (an area light counts two: {areas} of them)" if areas else ""
+    counted = [f"an area light counts two: {areas} of them"] if areas else []
+    if WORLD_TERMS[route]:
+        counted.append(f"the world counts {WORLD_TERMS[route]}")
+    counted = f" ({'; '.join(counted)})" if counted else ""
     return (f"{len(kinds)} lights make {terms} light terms{counted}: past {limit} on the "
             f"{route} route Cycles runs out of its shader stack ('out of SVM stack space' "
             "in the console) and renders the cloth black; delete lights the cloth can do "
