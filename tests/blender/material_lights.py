@@ -263,6 +263,28 @@ def world_per_route(scene, plane, spot, area, apply_material, material, export_s
           f"{alone[0][cloth].mean():.4f} (ratio {ratio:.4f})", flush=True)
     check(abs(ratio - 1.0) <= 0.03, f"cycles-lit: the world adds beside a sun what it gives "
                                     f"alone ({ratio:.4f}, within 3 %)")
+    # An HDRI: its image's mean over the sphere (cos-latitude weighted) x
+    # the live strength; upper half (2, 0, 0), lower half (0, 0, 1): mean
+    # (1, 0, 0.5).
+    image = bpy.data.images.new("clothbake test sky", 64, 32, float_buffer=True)
+    sky = np.zeros((32, 64, 4), np.float32)
+    sky[..., 3] = 1.0
+    sky[16:, :, 0], sky[:16, :, 2] = 2.0, 1.0
+    image.pixels.foreach_set(sky.ravel())
+    env = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    env.image = image
+    world.node_tree.links.new(env.outputs["Color"], background.inputs["Color"])
+    background.inputs["Strength"].default_value = 0.5
+    _, notes = apply_material(plane, material, route="cycles-lit")
+    dg = bpy.context.evaluated_depsgraph_get()
+    dg.update()
+    got = np.array(plane.active_material.evaluated_get(dg).node_tree.nodes["Group"]
+                   .inputs["World radiance"].default_value[:])
+    check(np.allclose(got, [0.5, 0.0, 0.25], atol=1e-5) and any("mean colour" in n for n in notes),
+          f"an HDRI: its mean x strength drives World radiance ({got}), noted {notes}")
+    world.node_tree.links.remove(background.inputs["Color"].links[0])
+    world.node_tree.nodes.remove(env)
+    background.inputs["Strength"].default_value = 1.0
 
 
 def light_rig(scene, plane, lights, apply_material, material):

@@ -171,11 +171,11 @@ def drive_world(node, scene):
         if source.type == "TEX_ENVIRONMENT":
             mean = _environment_mean(source)
         if mean is None:
-            notes.append(f"the world '{world.name}''s colour comes from a "
-                         f"'{source.bl_label}' node: the cloth material takes the Background "
+            notes.append(f"world '{world.name}': its colour comes from a "
+                         f"'{source.bl_label}' node; the cloth material takes the Background "
                          "node's own colour as the world's light instead")
         else:
-            notes.append(f"the world '{world.name}''s image is taken as its mean colour "
+            notes.append(f"world '{world.name}': its image is taken as its mean colour "
                          f"({mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}) x strength: apply the "
                          "material again after changing the image")
     for axis in range(3):
