@@ -17,15 +17,8 @@ tmp=$(mktemp -d)
 xvfb_pid=
 cleanup() { [[ -n $xvfb_pid ]] && kill "$xvfb_pid" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
-for n in $(seq 140 180); do
-  [[ -e /tmp/.X$n-lock ]] && continue
-  Xvfb ":$n" -screen 0 1600x1000x24 -nolisten tcp >"$tmp/xvfb.log" 2>&1 &
-  xvfb_pid=$!
-  sleep 1
-  if kill -0 "$xvfb_pid" 2>/dev/null; then display=:$n; break; fi
-  xvfb_pid=
-done
-[[ -n $xvfb_pid ]] || { cat "$tmp/xvfb.log"; echo "no Xvfb display" >&2; exit 1; }
+source "$root/scripts/xvfb.sh"
+start_xvfb "$tmp" 140 || exit 1
 mkdir -p "$tmp/user/config"
 rm -f "$out/result.txt"
 DISPLAY=$display BLENDER_USER_SCRIPTS=$tmp/user BLENDER_USER_CONFIG=$tmp/user/config \

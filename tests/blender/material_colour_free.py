@@ -25,7 +25,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, argv, check, enable_addon, run_checks  # noqa
+from addon_check import CLOTHBAKE, SOURCE, TMP, argv, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
 
 import OpenImageIO as oiio  # noqa: E402
 
@@ -42,23 +42,6 @@ def run(args):
     return p.stdout
 
 
-def pixels(path):
-    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
-
-
-def rel_rmse(a, b):
-    a, b = a[..., :3], b[..., :3]
-    return float(np.sqrt(((a - b) ** 2).mean()) / max(1e-12, a.mean()))
-
-
-def render(path, seed):
-    scene = bpy.context.scene
-    scene.cycles.seed = seed
-    bpy.ops.render.render(write_still=False)
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return pixels(path)
-
-
 def blocks(image, k=4):
     """Means over k x k pixel blocks (material_routes.blocks)."""
     h, w = image.shape[0] // k * k, image.shape[1] // k * k
@@ -68,8 +51,8 @@ def blocks(image, k=4):
 def pair(name):
     """A render, its noise sigma and its noise over 4 x 4 blocks (two seeds)."""
     t = time.perf_counter()
-    a = render(os.path.join(TMP, f"{name}_s1.exr"), 1)
-    b = render(os.path.join(TMP, f"{name}_s2.exr"), 2)
+    a = render_still(os.path.join(TMP, f"{name}_s1.exr"), 1)
+    b = render_still(os.path.join(TMP, f"{name}_s2.exr"), 2)
     print(f"{name}: two renders in {time.perf_counter() - t:.1f} s")
     return a, rel_rmse(a, b) / math.sqrt(2.0), rel_rmse(blocks(a), blocks(b)) / math.sqrt(2.0)
 
@@ -171,9 +154,9 @@ def main():
     from clothbake.blender.headless import use_eevee
     scene = bpy.context.scene
     use_eevee(scene, 16)
-    e1 = render(os.path.join(TMP, "eevee_before.exr"), 1)
+    e1 = render_still(os.path.join(TMP, "eevee_before.exr"), 1)
     obj.clothbake.weft_color = (0.1, 0.2, 0.6)
-    e2 = render(os.path.join(TMP, "eevee_after.exr"), 1)
+    e2 = render_still(os.path.join(TMP, "eevee_after.exr"), 1)
     e_ref = sheet[2]       # lookup-render in weft (0.1, 0.2, 0.6)
     moved = rel_rmse(e1, e2)
     check(moved > 0.3, f"Eevee: the weft colour's change changes the render ({moved:.4f})")

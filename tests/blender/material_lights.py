@@ -68,9 +68,7 @@ import numpy as np
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, TMP, check, enable_addon, run_checks  # noqa: E402
-
-import OpenImageIO as oiio  # noqa: E402
+from addon_check import CLOTHBAKE, TMP, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
 
 SPP = 64                # Cycles, the issue's exact-route samples
 REF_SPP = 64            # clothbake render and lookup-render (the issue's table)
@@ -90,20 +88,9 @@ def run(args):
     return p.stdout
 
 
-def pixels(path):
-    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3].astype(np.float64)
-
-
-def rel_rmse(ref, b):
-    return float(np.sqrt(((ref - b) ** 2).mean()) / max(1e-12, ref.mean()))
-
-
-def render(path, seed=1):
-    scene = bpy.context.scene
-    scene.cycles.seed = seed
-    bpy.ops.render.render(write_still=False)
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return pixels(path)
+def rgb(image):
+    """An image's RGB in float64."""
+    return image[..., :3].astype(np.float64)
 
 
 def aim(obj, target):
@@ -173,7 +160,7 @@ def compare_case(what, tag, scene, material, export_scene):
     """Cycles (exact route) against clothbake's reference of the exported
     scene, and lookup-render of the same material against it."""
     t = time.time()
-    cycles = render(os.path.join(TMP, f"{tag}_cycles.exr"))
+    cycles = rgb(render_still(os.path.join(TMP, f"{tag}_cycles.exr")))
     t_cycles = time.time() - t
     path = export_scene(scene, os.path.join(TMP, tag, "scene.json"))
     t = time.time()
@@ -181,8 +168,8 @@ def compare_case(what, tag, scene, material, export_scene):
     t_ref = time.time() - t
     run(["lookup-render", path, material, "-o", os.path.join(TMP, f"{tag}_lr.exr"),
          "--spp", str(REF_SPP)])
-    ref = pixels(os.path.join(TMP, f"{tag}_ref.exr"))
-    lr = pixels(os.path.join(TMP, f"{tag}_lr.exr"))
+    ref = rgb(pixels(os.path.join(TMP, f"{tag}_ref.exr")))
+    lr = rgb(pixels(os.path.join(TMP, f"{tag}_lr.exr")))
     e_cycles, e_lr, e_pair = rel_rmse(ref, cycles), rel_rmse(ref, lr), rel_rmse(lr, cycles)
     print(f"{what}: Cycles {e_cycles:.4f}, lookup-render {e_lr:.4f} against the reference; "
           f"Cycles against lookup-render {e_pair:.4f} (Cycles {t_cycles:.1f} s, reference "
@@ -213,7 +200,7 @@ def world_per_route(scene, plane, spot, area, apply_material, material, export_s
         apply_material(plane, material, route=route)
         for w in (0.0, WORLD):
             background.inputs["Color"].default_value = (w, w, w, 1.0)
-            images[route, w] = render(os.path.join(TMP, f"world_{route}_{w}.exr"))
+            images[route, w] = rgb(render_still(os.path.join(TMP, f"world_{route}_{w}.exr")))
     check(np.array_equal(images["exact", 0.0], images["exact", WORLD]),
           f"exact route: a uniform world of {WORLD} changes no pixel (bit for bit)")
     # Cycles-lit, the world alone (the sun hidden: no front light at all),
@@ -221,7 +208,7 @@ def world_per_route(scene, plane, spot, area, apply_material, material, export_s
     # suns of equal solid angle over the whole sphere (a Fibonacci lattice,
     # each of irradiance W 4 pi / N), WORLD_SUNS / 8 scenes of 8 summed.
     sun.hide_render = True
-    alone = [render(os.path.join(TMP, f"world_alone_{seed}.exr"), seed=seed) for seed in (1, 2)]
+    alone = [rgb(render_still(os.path.join(TMP, f"world_alone_{seed}.exr"), seed=seed)) for seed in (1, 2)]
     sun.hide_render = False
     path = export_scene(scene, os.path.join(TMP, "world", "scene.json"))
     with open(path) as f:
@@ -242,7 +229,7 @@ def world_per_route(scene, plane, spot, area, apply_material, material, export_s
             json.dump(batch, f)
         out = os.path.join(TMP, "world", f"suns_{b}.exr")
         run(["lookup-render", batch_path, material, "-o", out, "--spp", "16"])
-        summed = summed + pixels(out)
+        summed = summed + rgb(pixels(out))
     cloth = summed.mean(axis=2) > 0.02 * summed.mean(axis=2).max()
     noise = rel_rmse(alone[0][cloth], alone[1][cloth]) / math.sqrt(2.0)
     ratio = float(alone[0][cloth].mean() / summed[cloth].mean())
@@ -307,12 +294,12 @@ def light_rig(scene, plane, lights, apply_material, material):
     samples = scene.cycles.samples
     scene.cycles.samples = 4
     apply_material(plane, material, route="exact")
-    full = render(os.path.join(TMP, "rig_exact.exr"))
+    full = rgb(render_still(os.path.join(TMP, "rig_exact.exr")))
     total = np.zeros_like(full)
     for obj in rig:
         for other in rig:
             other.hide_render = other is not obj
-        total += render(os.path.join(TMP, f"rig_exact_{obj.name}.exr"))
+        total += rgb(render_still(os.path.join(TMP, f"rig_exact_{obj.name}.exr")))
     for obj in rig:
         obj.hide_render = False
     diff = float(np.abs(full - total).max())
@@ -329,9 +316,9 @@ def light_rig(scene, plane, lights, apply_material, material):
           f"(share of pixels over 1e-4 x the peak {over:.2e} <= 1e-3; max {diff:.2e} <= "
           f"1e-2 x {full.max():.4f})")
     scene.cycles.samples = 16
-    exact = render(os.path.join(TMP, "rig_exact16.exr"))
+    exact = rgb(render_still(os.path.join(TMP, "rig_exact16.exr")))
     apply_material(plane, material, route="cycles-lit")
-    lit = [render(os.path.join(TMP, f"rig_lit_{seed}.exr"), seed=seed) for seed in (1, 2)]
+    lit = [rgb(render_still(os.path.join(TMP, f"rig_lit_{seed}.exr"), seed=seed)) for seed in (1, 2)]
     scene.cycles.samples = samples
     means = [float(x[cloth].mean()) for x in lit]
     noise = abs(means[0] - means[1]) / math.sqrt(2.0) / float(exact[cloth].mean())

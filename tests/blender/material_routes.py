@@ -45,7 +45,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
+from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks, pixels, rel_rmse  # noqa: E402
 
 import OpenImageIO as oiio  # noqa: E402
 
@@ -124,17 +124,6 @@ def run(args):
     if p.returncode != 0:
         raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
     return p.stdout
-
-
-def pixels(path):
-    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
-
-
-def rel_rmse(a, b, mask=None):
-    a, b = a[..., :3], b[..., :3]
-    if mask is not None:
-        a, b = a[mask], b[mask]
-    return float(np.sqrt(((a - b) ** 2).mean()) / max(1e-12, a.mean()))
 
 
 def render(path, seed):

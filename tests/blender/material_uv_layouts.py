@@ -49,9 +49,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
-
-import OpenImageIO as oiio  # noqa: E402
+from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
 
 SPP = 32
 REPEATS = 12    # per UV on the 2 x 2 flat cloth the material is baked from
@@ -84,26 +82,9 @@ def run(args):
     return p.stdout
 
 
-def pixels(path):
-    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
-
-
-def rel_rmse(a, b):
-    a, b = a[..., :3], b[..., :3]
-    return float(np.sqrt(((a - b) ** 2).mean()) / max(1e-12, a.mean()))
-
-
 def blocks(image, k=4):
     h, w = image.shape[0] // k * k, image.shape[1] // k * k
     return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
-
-
-def render(path, seed):
-    scene = bpy.context.scene
-    scene.cycles.seed = seed
-    bpy.ops.render.render(write_still=False)
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return pixels(path)
 
 
 class Noisy:
@@ -353,15 +334,15 @@ def main():
         ref = pixels(ref_path)
         apply_material(obj, material, route="exact")
         scene.render.engine = "CYCLES"
-        a = render(os.path.join(TMP, f"case{i}_s1.exr"), 1)
-        b = render(os.path.join(TMP, f"case{i}_s2.exr"), 2)
+        a = render_still(os.path.join(TMP, f"case{i}_s1.exr"), 1)
+        b = render_still(os.path.join(TMP, f"case{i}_s2.exr"), 2)
         errs = compare(f"Cycles, {what}", Noisy(a, b), ref, SYS)
         row = [what, frac, errs]
         if make is half_grid_mirrored:
             use_eevee(scene, SPP)
-            ea = render(os.path.join(TMP, f"case{i}_eevee.exr"), 1)
+            ea = render_still(os.path.join(TMP, f"case{i}_eevee.exr"), 1)
             use_eevee(scene, 2 * SPP)
-            eb = render(os.path.join(TMP, f"case{i}_eevee2.exr"), 1)
+            eb = render_still(os.path.join(TMP, f"case{i}_eevee2.exr"), 1)
             row.append(compare(f"Eevee, {what}", Noisy(ea, eb, math.sqrt(1.5)), ref,
                                SYS_EEVEE))
             scene.render.engine = "CYCLES"
@@ -457,18 +438,18 @@ def stretched(obj, scene, material, apply_material, world_per_uv, export_scene):
         ref = pixels(ref_path)
         apply_material(obj, material, route="exact")
         scene.render.engine = "CYCLES"
-        a = render(os.path.join(TMP, f"stretch{i}_s1.exr"), 1)
-        b = render(os.path.join(TMP, f"stretch{i}_s2.exr"), 2)
+        a = render_still(os.path.join(TMP, f"stretch{i}_s1.exr"), 1)
+        b = render_still(os.path.join(TMP, f"stretch{i}_s2.exr"), 2)
         noisy = Noisy(a, b)
         errs = measure(what, noisy, ref)
         obj.data.attributes.remove(obj.data.attributes["clothbake_world_per_uv"])
-        o = render(os.path.join(TMP, f"stretch{i}_mean.exr"), 1)
+        o = render_still(os.path.join(TMP, f"stretch{i}_mean.exr"), 1)
         old = [(rel_rmse(ref, o), errs[0][1]), (rel_rmse(blocks(ref), blocks(o)), errs[1][1])]
         frame_scale = obj.data.attributes["clothbake_frame_scale"]
         saved = np.empty(len(frame_scale.data) * 3, np.float32)
         frame_scale.data.foreach_get("vector", saved)
         obj.data.attributes.remove(frame_scale)
-        d = render(os.path.join(TMP, f"stretch{i}_dirs.exr"), 1)
+        d = render_still(os.path.join(TMP, f"stretch{i}_dirs.exr"), 1)
         dirs = rel_rmse(blocks(ref), blocks(d))
         check(dirs > 2.0 * errs[1][0], f"{what}: without the per-face frame scale the 4x4 "
               f"error is {dirs:.4f}, over twice its {errs[1][0]:.4f}")

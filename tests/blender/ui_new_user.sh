@@ -14,17 +14,8 @@ out=${4:-$tmp/shots}
 xvfb_pid=
 cleanup() { [[ -n $xvfb_pid ]] && kill "$xvfb_pid" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
-command -v Xvfb >/dev/null || { echo "FAIL: Xvfb not installed (scripts/packages.txt: xvfb)"; exit 1; }
-# A free display number: Xvfb refuses one in use.
-for n in $(seq 90 130); do
-  [[ -e /tmp/.X$n-lock ]] && continue
-  Xvfb ":$n" -screen 0 1600x1000x24 -nolisten tcp >"$tmp/xvfb.log" 2>&1 &
-  xvfb_pid=$!
-  sleep 1
-  if kill -0 "$xvfb_pid" 2>/dev/null; then display=:$n; break; fi
-  xvfb_pid=
-done
-[[ -n $xvfb_pid ]] || { cat "$tmp/xvfb.log"; echo "FAIL: no Xvfb display"; exit 1; }
+source "$src/scripts/xvfb.sh"
+start_xvfb "$tmp" || exit 1
 bash "$src/scripts/package-addon.sh" -o "$tmp/clothbake-addon.zip"
 mkdir -p "$tmp/user/config" "$tmp/work"
 start=$(date +%s)

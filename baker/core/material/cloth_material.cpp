@@ -169,8 +169,12 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     if (wv[c] == 0.0f) continue;
     const int v = views[c];
     const int rk = rank[v];
+    // A material with no parallax depth skips the node's direction (a
+    // decode and a normalise per view node per lookup).
     const Imath::V2f shift =
-        parallax_shift_mm(to_eye, view_grid.node_direction(v), parallax_depth_mm, optics.depth_scale);
+        parallax_depth_mm == 0.0f
+            ? Imath::V2f(0.0f)
+            : parallax_shift_mm(to_eye, view_grid.node_direction(v), parallax_depth_mm, optics.depth_scale);
     // The side the view node's ray runs toward across the threads: its
     // neighbours' colours are those of the owner + 1 or - 1.
     const V3f ray = parts ? -view_grid.bake_direction(v) : V3f(0.0f);
