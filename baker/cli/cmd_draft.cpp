@@ -38,11 +38,9 @@ nlohmann::json rgb(const Imath::V3f& c) { return {c.x, c.y, c.z}; }
 
 void run_draft(const DraftArgs& args) {
   const ClothSpec spec = io::load_cloth_spec(args.input);
-  const WeaveDraft draft = !spec.draft.empty() ? WeaveDraft(spec.draft)
-                           : spec.pattern == k_uniform_pattern ? WeaveDraft({{1, 0}, {0, 1}})
-                                                               : WeaveDraft::named(spec.pattern);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp");
-  const ThreadLayout picks(spec.weft, draft.picks(), "weft");
+  const WeaveDraft draft = draft_of(spec);
+  const ThreadLayout ends = thread_layout(spec, draft, true);
+  const ThreadLayout picks = thread_layout(spec, draft, false);
   const int block = args.block > 0 ? args.block
                                    : std::clamp(768 / std::max(ends.count(), picks.count()), 1, 32);
   const Image image = drawdown_image(spec, block);

@@ -73,8 +73,8 @@ void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
   palette = p;
   colours = colours_of(p);
   const WeaveDraft draft = draft_of(spec);
-  warp_threads = std::make_shared<const ThreadLayout>(spec.warp, draft.ends(), "warp");
-  weft_threads = std::make_shared<const ThreadLayout>(spec.weft, draft.picks(), "weft");
+  warp_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, true));
+  weft_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, false));
 }
 
 YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {

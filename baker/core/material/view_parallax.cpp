@@ -87,7 +87,7 @@ ViewParallaxFit fit_view_parallax(const ClothMaterial& m) {
     for (int j = 0; j < k; ++j)
       for (int i = 0; i < k; ++i) {
         const int a = m.view_grid.node_index(s, i, j);
-        for (const auto [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{0, 1}}) {
           if (i + di >= k || j + dj >= k) continue;
           const int b = m.view_grid.node_index(s, i + di, j + dj);
           if (images[size_t(a)].empty() || images[size_t(b)].empty()) continue;

@@ -82,8 +82,7 @@ ColourStrip colour_strip(std::span<const float> centres, float repeat_mm,
 
 std::vector<float> thread_centres_mm(const ClothSpec& spec, bool warp) {
   const WeaveDraft draft = draft_of(spec);
-  const ThreadLayout layout = warp ? ThreadLayout(spec.warp, draft.ends(), "warp")
-                                   : ThreadLayout(spec.weft, draft.picks(), "weft");
+  const ThreadLayout layout = thread_layout(spec, draft, warp);
   std::vector<float> out(size_t(layout.count()));
   for (int i = 0; i < layout.count(); ++i) out[size_t(i)] = layout.centre_mm(i);
   return out;
@@ -91,8 +90,7 @@ std::vector<float> thread_centres_mm(const ClothSpec& spec, bool warp) {
 
 float thread_repeat_mm(const ClothSpec& spec, bool warp) {
   const WeaveDraft draft = draft_of(spec);
-  return warp ? ThreadLayout(spec.warp, draft.ends(), "warp").repeat_mm()
-              : ThreadLayout(spec.weft, draft.picks(), "weft").repeat_mm();
+  return thread_layout(spec, draft, warp).repeat_mm();
 }
 
 YarnColours yarn_colours(const ClothSpec& spec, const YarnPalette& p, int texels, int levels) {

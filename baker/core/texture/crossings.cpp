@@ -9,8 +9,8 @@ namespace clothbake {
 
 Image crossing_tops(const VolumeTexture& volume, const ClothSpec& spec) {
   const WeaveDraft draft = draft_of(spec);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp");
-  const ThreadLayout picks(spec.weft, draft.picks(), "weft");
+  const ThreadLayout ends = thread_layout(spec, draft, true);
+  const ThreadLayout picks = thread_layout(spec, draft, false);
   const Imath::V3f cell = volume.cell_size_mm();
   Image image(ends.count(), picks.count(), 4);
   for (int p = 0; p < picks.count(); ++p)

@@ -116,8 +116,8 @@ class WeaveModel {
       : m_spec(spec),
         m_draft(draft_of(spec)),
         m_geom(weave_geometry(spec)),
-        m_ends(spec.warp, m_draft.ends(), "warp"),
-        m_picks(spec.weft, m_draft.picks(), "weft") {}
+        m_ends(thread_layout(spec, m_draft, true)),
+        m_picks(thread_layout(spec, m_draft, false)) {}
 
   /// Finds the yarn containing p_texture, preferring the one it lies deepest in.
   YarnHit hit(const V3f& p_texture) const {
@@ -253,7 +253,7 @@ WeaveGeometry weave_geometry(const ClothSpec& spec) {
   WeaveGeometry g;
   g.amplitude_mm = spec.crimp * (spec.warp.thickness_mm + spec.weft.thickness_mm) / 4.0f;
   const float half_max = 0.5f * std::max(spec.warp.thickness_mm, spec.weft.thickness_mm);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  const ThreadLayout ends = thread_layout(spec, draft, true), picks = thread_layout(spec, draft, false);
   g.size_mm = V3f(ends.repeat_mm(), picks.repeat_mm(), 2.0f * (g.amplitude_mm + half_max));
   g.z_mid_mm = 0.5f * g.size_mm.z;
   return g;

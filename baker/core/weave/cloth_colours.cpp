@@ -36,7 +36,7 @@ std::string text(const std::vector<std::vector<int>>& d) {
 ClothSpec colour_free(const ClothSpec& spec) {
   const ResolutionSpec full = resolved_resolution(spec);
   const WeaveDraft draft = draft_of(spec);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  const ThreadLayout ends = thread_layout(spec, draft, true), picks = thread_layout(spec, draft, false);
   ClothSpec out = spec;
   for (YarnSpec* y : {&out.warp, &out.weft}) {
     y->color = Imath::V3f(k_neutral_albedo);

@@ -109,7 +109,7 @@ ResolutionSpec resolved_resolution(const ClothSpec& spec) {
   ResolutionSpec r = spec.resolution;
   const bool named = spec.draft.empty();
   const WeaveDraft draft = draft_of(spec);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp"), picks(spec.weft, draft.picks(), "weft");
+  const ThreadLayout ends = thread_layout(spec, draft, true), picks = thread_layout(spec, draft, false);
   // The weave's repeat without its colours: the cells are counted over it,
   // and a colour sequence that spans several of them repeats them, so that
   // colours never change the cells (a colour-free material, cloth_colours.h).

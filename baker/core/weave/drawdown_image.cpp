@@ -8,14 +8,14 @@ namespace clothbake {
 
 void repeat_threads(const ClothSpec& spec, int& ends, int& picks) {
   const WeaveDraft draft = draft_of(spec);
-  ends = ThreadLayout(spec.warp, draft.ends(), "warp").count();
-  picks = ThreadLayout(spec.weft, draft.picks(), "weft").count();
+  ends = thread_layout(spec, draft, true).count();
+  picks = thread_layout(spec, draft, false).count();
 }
 
 Image drawdown_image(const ClothSpec& spec, int block) {
   const WeaveDraft draft = draft_of(spec);
-  const ThreadLayout ends(spec.warp, draft.ends(), "warp");
-  const ThreadLayout picks(spec.weft, draft.picks(), "weft");
+  const ThreadLayout ends = thread_layout(spec, draft, true);
+  const ThreadLayout picks = thread_layout(spec, draft, false);
   Image image(ends.count() * block, picks.count() * block, 3);
   const bool lines = block >= 4;
   for (int p = 0; p < picks.count(); ++p)

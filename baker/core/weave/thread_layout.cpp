@@ -90,4 +90,9 @@ int ThreadLayout::locate(float coord_mm, float& t, float& gap_mm) const {
   return base + i;
 }
 
+ThreadLayout thread_layout(const ClothSpec& spec, const WeaveDraft& draft, bool warp) {
+  return warp ? ThreadLayout(spec.warp, draft.ends(), "warp")
+              : ThreadLayout(spec.weft, draft.picks(), "weft");
+}
+
 }  // namespace clothbake

@@ -60,6 +60,10 @@ class ThreadLayout {
   std::vector<Imath::V3f> m_color;
 };
 
+/// One family's layout of `spec` over its draft (draft_of(spec)): the
+/// warp's ends along x (`warp`), or the weft's picks along y.
+ThreadLayout thread_layout(const ClothSpec& spec, const WeaveDraft& draft, bool warp);
+
 /// Least common multiple of a and b (both >= 1), or 0 when it exceeds `cap`.
 int lcm_capped(int a, int b, int cap);
 
