@@ -17,6 +17,7 @@
 
 #include "cli/commands.h"
 #include "core/util/error.h"
+#include "core/weave/crossing_neighbourhoods.h"
 #include "core/weave/drawdown_image.h"
 #include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
@@ -85,6 +86,15 @@ void run_draft(const DraftArgs& args) {
          j["warp_width_mm"]);
   family(picks, spec.weft, j["weft_colors"], j["weft_color_index"], j["weft_spacing_mm"],
          j["weft_width_mm"]);
+  // How many different places the weave holds (docs/material.md, "The
+  // weave's variety"): colours not counted.
+  const NeighbourhoodCounts hood = crossing_neighbourhoods(spec);
+  j["neighbourhoods"] = {{"weave_repeat", {hood.ends, hood.picks}},
+                         {"crossings", hood.crossings()},
+                         {"plus_1", hood.plus1},
+                         {"square_1", hood.square[0]},
+                         {"square_2", hood.square[1]},
+                         {"square_3", hood.square[2]}};
   nlohmann::json pal = nlohmann::json::array();
   for (const Imath::V3f& c : palette) pal.push_back(rgb(c));
   j["palette"] = pal;
@@ -103,8 +113,10 @@ void run_draft(const DraftArgs& args) {
     if (!out) throw InputError("", "cannot write the draft", json_path);
   });
   io::write_all_atomically(files);
-  std::printf("draft: %d ends x %d picks, %zu colours -> %s\n", ends.count(), picks.count(),
-              palette.size(), args.out_dir.c_str());
+  std::printf("draft: %d ends x %d picks, %zu colours; weave repeat %d x %d, %d distinct "
+              "crossings (plus-1 neighbourhoods) -> %s\n",
+              ends.count(), picks.count(), palette.size(), hood.ends, hood.picks, hood.plus1,
+              args.out_dir.c_str());
 }
 
 }  // namespace

@@ -5,31 +5,24 @@ material that stores the whole weave repeat.
 
     scripts/material/neighbourhoods.py CLOTHBAKE OUT_DIR DRAFT.wif ...
 
-For each draft the program's reading (`clothbake draft`, draft.json: the
-drawdown warp_up[pick][end], the spacings and widths) is reduced to its
-weave repeat (the smallest period of the drawdown and the spacings along
-each axis; colours never count: a colour-free material takes them at render
-time), then every crossing's neighbourhood is taken as a window of the
-periodic drawdown around it, with the spacings and widths of the threads in
-the window, and the distinct windows are counted:
-  plus 1   the crossing, the two crossings either side along its warp end
-           and along its weft pick (what a yarn's path through the crossing
-           depends on: a thread's path between crossings depends only on the
-           crossings on either side);
+The counts are the program's (`clothbake draft`, draft.json's
+"neighbourhoods": core/weave/crossing_neighbourhoods.h): the draft over its
+smallest repeat, colours not counted, each crossing's window of the periodic
+drawdown with the spacing and width of every thread in it:
+  plus 1   the crossing and the crossings either side along its warp end and
+           its weft pick (what a yarn's path through the crossing depends on);
   r x r    the square window of radius r = 1, 2, 3 crossings (what a view
            ray or a shadow ray crossing r threads sees).
-Writes OUT_DIR/neighbourhoods.json and prints a table; the sizes are in
-texels at T texels per thread side (default 16, the paper material's 32
-texels over its 2 x 2 repeat), and in MB scaled from the paper material
-(104.4 MB for 32 x 32 texels, docs/material.md).
+Writes OUT_DIR/neighbourhoods.json and prints a table; the sizes are in MB at
+T texels per thread side (default 16, the paper material's 32 texels over its
+2 x 2 repeat, and 8), scaled from the paper material (104.4 MB for 32 x 32
+texels at K 16, docs/material.md).
 """
 import argparse
 import json
 import os
 import subprocess
 import sys
-
-import numpy as np
 
 PAPER_MB_PER_TEXEL = 104.4 / (32 * 32)
 
@@ -39,48 +32,6 @@ def draft(exe, wif, out):
     subprocess.run([exe, "draft", wif, "-o", folder], check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(folder, "draft.json")) as f:
         return json.load(f)
-
-
-def smallest_period(rows):
-    """The smallest p dividing len(rows) with rows[i] == rows[i % p]."""
-    n = len(rows)
-    for p in range(1, n + 1):
-        if n % p == 0 and all(rows[i] == rows[i % p] for i in range(n)):
-            return p
-    return n
-
-
-def weave_repeat(d):
-    """(up[pick][end] as a bool array, per-end (spacing, width), per-pick
-    (spacing, width)) over the weave repeat: the drawdown with each thread's
-    spacing and width, colours dropped."""
-    up = np.array(d["warp_up"], dtype=bool)             # picks x ends
-    ends = [(tuple(up[:, e]), d["warp_spacing_mm"][e], d["warp_width_mm"][e])
-            for e in range(up.shape[1])]
-    picks = [(tuple(up[p, :]), d["weft_spacing_mm"][p], d["weft_width_mm"][p])
-             for p in range(up.shape[0])]
-    pe, pp = smallest_period(ends), smallest_period(picks)
-    up = up[:pp, :pe]
-    return up, [(d["warp_spacing_mm"][e], d["warp_width_mm"][e]) for e in range(pe)], \
-        [(d["weft_spacing_mm"][p], d["weft_width_mm"][p]) for p in range(pp)]
-
-
-def count(up, warp, weft, shape, r):
-    picks, ends = up.shape
-    seen = set()
-    for p in range(picks):
-        for e in range(ends):
-            if shape == "plus":
-                key = (tuple(up[(p + k) % picks, e] for k in range(-r, r + 1)),
-                       tuple(up[p, (e + k) % ends] for k in range(-r, r + 1)),
-                       warp[e], weft[p])
-            else:
-                rows = [(p + k) % picks for k in range(-r, r + 1)]
-                cols = [(e + k) % ends for k in range(-r, r + 1)]
-                key = (up[np.ix_(rows, cols)].tobytes(), tuple(warp[c] for c in cols),
-                       tuple(weft[q] for q in rows))
-            seen.add(key)
-    return len(seen)
 
 
 def main():
@@ -95,13 +46,13 @@ def main():
     rows = []
     for wif in a.drafts:
         d = draft(a.clothbake, wif, a.out)
-        up, warp, weft = weave_repeat(d)
-        picks, ends = up.shape
+        n = d["neighbourhoods"]
+        ends, picks = n["weave_repeat"]
         row = {"draft": os.path.basename(wif), "threads": [d["ends"], d["picks"]],
-               "weave_repeat": [ends, picks], "crossings": ends * picks,
-               "plus1": count(up, warp, weft, "plus", 1)}
+               "weave_repeat": [ends, picks], "crossings": n["crossings"],
+               "plus1": n["plus_1"]}
         for r in (1, 2, 3):
-            row[f"square{r}"] = count(up, warp, weft, "square", r)
+            row[f"square{r}"] = n[f"square_{r}"]
         row["repeat_mb"] = ends * picks * t2 * PAPER_MB_PER_TEXEL
         rows.append(row)
         print(f"{row['draft']:24s} {d['ends']:4d} x {d['picks']:4d} threads, weave repeat "

@@ -1,5 +1,7 @@
 #include "core/weave/weave.h"
 
+#include <utility>
+
 #include "core/util/error.h"
 
 namespace clothbake {
@@ -76,6 +78,31 @@ WeaveDraft WeaveDraft::named(std::string_view name) {
 
 bool WeaveDraft::warp_up(int pick, int end) const {
   return m_up[size_t(wrap(pick, m_rows)) * m_cols + wrap(end, m_cols)] != 0;
+}
+
+WeaveDraft WeaveDraft::smallest_repeat() const {
+  auto tiles = [&](int picks, int ends) {
+    for (int r = 0; r < m_rows; ++r)
+      for (int c = 0; c < m_cols; ++c)
+        if (warp_up(r, c) != warp_up(r % picks, c % ends)) return false;
+    return true;
+  };
+  int picks = m_rows, ends = m_cols;
+  for (int p = 1; p <= m_rows; ++p)
+    if (m_rows % p == 0 && tiles(p, m_cols)) {
+      picks = p;
+      break;
+    }
+  for (int e = 1; e <= m_cols; ++e)
+    if (m_cols % e == 0 && tiles(picks, e)) {
+      ends = e;
+      break;
+    }
+  if (picks == m_rows && ends == m_cols) return *this;
+  std::vector<std::vector<int>> m(size_t(picks), std::vector<int>(size_t(ends), 0));
+  for (int r = 0; r < picks; ++r)
+    for (int c = 0; c < ends; ++c) m[size_t(r)][size_t(c)] = warp_up(r, c) ? 1 : 0;
+  return WeaveDraft(std::move(m));
 }
 
 }  // namespace clothbake

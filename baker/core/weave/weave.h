@@ -33,6 +33,11 @@ class WeaveDraft {
   int ends() const { return m_cols; }   ///< warp ends per repeat (columns, along x)
   /// Periodic access: any integer indices wrap into the repeat.
   bool warp_up(int pick, int end) const;
+  /// The same drawdown over its smallest repeat: the fewest picks and ends
+  /// (divisors of this draft's) that tile it. A WIF holds a whole threading
+  /// (214 ends of plain weave, to carry a colour stripe): its weave repeats
+  /// every 2 (crossing_neighbourhoods counts over it).
+  WeaveDraft smallest_repeat() const;
 
  private:
   int m_rows = 0, m_cols = 0;

@@ -106,5 +106,29 @@ TEST(WeaveDraft, BadDraftsNameTheField) {
   EXPECT_EQ(error_field([] { WeaveDraft::named("herringbone"); }), "weave.pattern");
 }
 
+TEST(WeaveDraft, SmallestRepeatOfAWholeThreading) {
+  // A plain weave written over 6 x 4 threads (as a WIF holds a threading):
+  // its repeat is 2 x 2, the same crossing at every index.
+  std::vector<std::vector<int>> m(4, std::vector<int>(6));
+  for (int p = 0; p < 4; ++p)
+    for (int e = 0; e < 6; ++e) m[size_t(p)][size_t(e)] = (p + e) % 2 == 0 ? 1 : 0;
+  const WeaveDraft whole(m), small = whole.smallest_repeat();
+  EXPECT_EQ(small.picks(), 2);
+  EXPECT_EQ(small.ends(), 2);
+  for (int p = -5; p < 9; ++p)
+    for (int e = -7; e < 13; ++e) EXPECT_EQ(small.warp_up(p, e), whole.warp_up(p, e)) << p << " " << e;
+  // Periods along each axis apart: 2/1 twill written over 6 ends, 3 picks.
+  const WeaveDraft twill = WeaveDraft::named("twill_2_1");
+  std::vector<std::vector<int>> t(3, std::vector<int>(6));
+  for (int p = 0; p < 3; ++p)
+    for (int e = 0; e < 6; ++e) t[size_t(p)][size_t(e)] = twill.warp_up(p, e) ? 1 : 0;
+  EXPECT_EQ(WeaveDraft(t).smallest_repeat().ends(), 3);
+  EXPECT_EQ(WeaveDraft(t).smallest_repeat().picks(), 3);
+  // A draft that does not repeat inside itself stays as it is.
+  std::vector<std::vector<int>> odd = {{1, 0, 0}, {0, 1, 1}};
+  EXPECT_EQ(WeaveDraft(odd).smallest_repeat().ends(), 3);
+  EXPECT_EQ(WeaveDraft(odd).smallest_repeat().picks(), 2);
+}
+
 }  // namespace
 }  // namespace clothbake

@@ -1,0 +1,71 @@
+#include "core/weave/crossing_neighbourhoods.h"
+
+#include <string>
+#include <unordered_set>
+
+#include "core/weave/cloth_colours.h"
+#include "core/weave/thread_layout.h"
+#include "core/weave/weave.h"
+
+namespace clothbake {
+
+namespace {
+
+/// One thread's part of a key: its spacing (the spec's per-thread value, so
+/// that equal threads give equal bits; centres are running sums) and its
+/// width. A window holds its threads' neighbours too, so the gaps between
+/// them are in the key.
+void append_thread(std::string& key, const YarnSpec& yarn, const ThreadLayout& layout, int i) {
+  const int w = layout.wrap(i);
+  const float v[2] = {yarn.spacings_mm.empty() ? yarn.spacing_mm
+                                               : yarn.spacings_mm[size_t(w) % yarn.spacings_mm.size()],
+                      layout.width_mm(w)};
+  key.append(reinterpret_cast<const char*>(v), sizeof v);
+}
+
+}  // namespace
+
+NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
+  const ClothSpec spec = colour_free(coloured);
+  // The drawdown over its smallest repeat (a WIF's plain weave written over
+  // 214 ends repeats every 2); the spacing and width sequences may lengthen
+  // the layouts' repeat again.
+  const WeaveDraft draft = draft_of(spec).smallest_repeat();
+  const ThreadLayout ends = thread_layout(spec, draft, true);
+  const ThreadLayout picks = thread_layout(spec, draft, false);
+  NeighbourhoodCounts out;
+  out.ends = ends.count();
+  out.picks = picks.count();
+  // The drawdown over the layouts' repeat (a multiple of the draft's when a
+  // spacing or width sequence lengthens it), periodic in both directions.
+  auto up = [&](int p, int e) {
+    const int pp = ((p % draft.picks()) + draft.picks()) % draft.picks();
+    const int ee = ((e % draft.ends()) + draft.ends()) % draft.ends();
+    return draft.warp_up(pp, ee) ? '1' : '0';
+  };
+  std::unordered_set<std::string> plus;
+  std::array<std::unordered_set<std::string>, 3> square;
+  std::string key;
+  for (int p = 0; p < out.picks; ++p)
+    for (int e = 0; e < out.ends; ++e) {
+      key.clear();
+      for (int d = -1; d <= 1; ++d) key += up(p + d, e);
+      for (int d = -1; d <= 1; ++d) key += up(p, e + d);
+      for (int d = -1; d <= 1; ++d) append_thread(key, spec.warp, ends, e + d);
+      for (int d = -1; d <= 1; ++d) append_thread(key, spec.weft, picks, p + d);
+      plus.insert(key);
+      for (int r = 1; r <= 3; ++r) {
+        key.clear();
+        for (int dp = -r; dp <= r; ++dp)
+          for (int de = -r; de <= r; ++de) key += up(p + dp, e + de);
+        for (int d = -r; d <= r; ++d) append_thread(key, spec.warp, ends, e + d);
+        for (int d = -r; d <= r; ++d) append_thread(key, spec.weft, picks, p + d);
+        square[size_t(r - 1)].insert(key);
+      }
+    }
+  out.plus1 = int(plus.size());
+  for (int r = 0; r < 3; ++r) out.square[size_t(r)] = int(square[size_t(r)].size());
+  return out;
+}
+
+}  // namespace clothbake

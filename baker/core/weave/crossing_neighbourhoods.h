@@ -1,0 +1,40 @@
+#pragma once
+/// How many different places a weave repeat holds (issue 24; docs/material.md,
+/// "The weave's variety"): the distinct neighbourhoods of its crossings. A
+/// material addressed per crossing would store one block of texels per
+/// distinct neighbourhood instead of the whole repeat, so these counts say what
+/// it would hold, against the repeat's crossings.
+///
+/// Colours never count (a colour-free material takes them at render time):
+/// the repeat is the cloth's without its colours (colour_free), the draft's
+/// smallest repeat (WeaveDraft::smallest_repeat) and the per-thread spacings'
+/// and widths'. (The material itself still takes the draft as written: a WIF
+/// that writes a plain weave over 214 ends bakes 214 ends per repeat.) A neighbourhood is a window of
+/// the periodic drawdown around a crossing, with the spacing and the width of
+/// each thread in the window:
+///   plus 1       the crossing and the crossings either side of it along its
+///                warp end and along its weft pick (what a yarn's path
+///                through the crossing depends on), with the three ends and
+///                the three picks through them;
+///   square r     the (2r + 1) x (2r + 1) window (what a view or shadow ray
+///                that crosses r threads sees).
+
+#include <array>
+
+#include "core/weave/cloth_spec.h"
+
+namespace clothbake {
+
+struct NeighbourhoodCounts {
+  int ends = 0;                  ///< warp ends of the colour-free repeat
+  int picks = 0;                 ///< weft picks of it
+  int plus1 = 0;                 ///< distinct plus-shaped stencils of radius 1
+  std::array<int, 3> square{};   ///< distinct square windows of radius 1, 2, 3
+  long long crossings() const { return (long long)ends * picks; }
+};
+
+/// The counts of `spec`'s weave (deterministic; about a second for a 641 x 641
+/// repeat).
+NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& spec);
+
+}  // namespace clothbake
