@@ -43,9 +43,14 @@ level). Per shading point the group computes, one function a step:
 Route "exact": Emission(L) + Transparent(1 - A), the reference renderer's
 sum (no shadows from other objects, no cloth-on-cloth shadowing).
 Route "cycles-lit": lights on the viewer's side of the surface go through
-a Diffuse closure whose colour is pi L_front / sum_l E_l cos_l, so that
-Cycles (or Eevee) adds its own shadows and the light's live power; lights
-behind the surface (light through the cloth) stay Emission.
+a Diffuse closure whose colour is pi L_front / (sum_l E_l cos_l + pi W), so
+that Cycles (or Eevee) adds its own shadows and the light's live power;
+lights behind the surface (light through the cloth) stay Emission. The
+world, as a uniform radiance W (the World radiance input), is two more
+terms read like a light's (_world): the material's factors integrated over
+the viewer's hemisphere into the closure's sum (pi W in its denominator:
+Cycles lights the closure with the world itself), over the other into the
+Emission.
 
 The footprint: the distance to the camera (the point in camera space) x
 the camera's pixel angle (sensor width / lens / pixels, a driver on the
