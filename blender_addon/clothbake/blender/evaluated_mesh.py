@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import bpy
 
-from ..core.errors import ClothbakeError
 from . import patch_nodes
 
 
