@@ -139,7 +139,10 @@ void run_material(const MaterialArgs& args) {
                                          src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth
                                                                                       : nullptr,
                                          shard);
-  if (material.colour_parts()) material.set_cloth(src.cloth, src.palette);
+  if (material.colour_parts()) {
+    material.set_cloth(src.cloth, src.palette);
+    material.written_repeats = src.written_repeats;
+  }
   bar.finish();
   const double seconds = seconds_since(t0);
 

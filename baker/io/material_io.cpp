@@ -89,6 +89,7 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   if (m.colour_parts()) {
     j["cloth"]["spec"] = cloth_spec_json(m.cloth);
     j["cloth"]["colors"] = palette_json(m.palette);
+    j["cloth"]["written_repeats"] = {m.written_repeats.x, m.written_repeats.y};
     j["cloth"]["threads"] = {{"warp", {{"centres_mm", thread_centres_mm(m.cloth, true)}}},
                              {"weft", {{"centres_mm", thread_centres_mm(m.cloth, false)}}}};
   }
@@ -421,6 +422,11 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
     weft.read("color", p.weft_color);
     weft.read("colors", p.weft_colors);
     m.set_cloth(spec, p);
+    cloth.read("written_repeats", m.written_repeats);  // absent before 2026-12-05: 1 x 1
+    if (!(m.written_repeats.x >= 1.0f && m.written_repeats.y >= 1.0f &&
+          m.written_repeats.x == std::round(m.written_repeats.x) &&
+          m.written_repeats.y == std::round(m.written_repeats.y)))
+      cloth.fail(cloth.field("written_repeats"), "must be two whole numbers of at least 1");
     if (!(std::fabs(thread_repeat_mm(spec, true) / m.repeat_mm.x - 1.0f) < 1e-4f) ||
         !(std::fabs(thread_repeat_mm(spec, false) / m.repeat_mm.y - 1.0f) < 1e-4f))
       cloth.fail(cloth.field("spec"), "gives a repeat other than repeat_mm's");

@@ -182,6 +182,10 @@ def test_version_2_manifest(tmp_path):
     assert info.centres_mm == {"warp": [0.25, 0.75], "weft": [0.5]}
     assert info.colors["warp"] == {"color": [0.6, 0.1, 0.1], "colors": []}
     assert info.colors["weft"]["colors"] == [A, B]
+    assert info.written_repeats == (1.0, 1.0)  # absent: a draft written once
+    # A WIF written over its colour repeat is baked over its weave's.
+    info = read_material(_folder(tmp_path, cloth_extra={"written_repeats": [107, 2]}))
+    assert info.written_repeats == (107.0, 2.0)
 
 
 def test_version_1_and_rgb_parts(tmp_path):
@@ -196,6 +200,8 @@ def test_version_1_and_rgb_parts(tmp_path):
     ({"threads": {"warp": {"centres_mm": [0.25, 1.5]}, "weft": {"centres_mm": [0.5]}}},
      "cloth.threads.warp.centres_mm"),
     ({"threads": {"warp": {"centres_mm": [0.25]}}}, "cloth.threads.weft.centres_mm"),
+    ({"written_repeats": [0.5, 1]}, "cloth.written_repeats"),
+    ({"written_repeats": [2]}, "cloth.written_repeats"),
     ({"colors": {"warp": {"color": [1, 2]}, "weft": {"color": [0, 0, 0]}}},
      "cloth.colors.warp.color"),
     ({"colors": {"warp": {"color": [1, 1, 1]}, "weft": {"color": [0, 0, 0], "colors": [[1]]}}},

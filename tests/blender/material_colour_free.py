@@ -8,7 +8,8 @@ renders' noise, from two seeds each, plus 0.01 systematic); then the weft
 colour changed in the panel's property: the applied material follows with
 no re-apply (the render changes, and matches lookup-render of a scene in
 that colour), and the update's time for a 48-thread warp stripe and a
-480-thread weft sequence.
+480-thread weft sequence; then a real WIF written over its colour repeat,
+baked over its weave's (written_over_its_colours).
 
     blender -b --factory-startup --python-exit-code 1 -P material_colour_free.py -- \\
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR [MATERIAL_DIR]
@@ -186,6 +187,49 @@ def main():
         print(f"update for a {label}: {1e3 * min(times):.2f} ms (min of 5), "
               f"{1e3 * max(times):.2f} ms max")
         check(max(times) < 0.1, f"the update for a {label} takes under 100 ms")
+
+    written_over_its_colours(import_scene, bilinear_patches, apply_material, read_material)
+
+
+def written_over_its_colours(import_scene, bilinear_patches, apply_material, read_material):
+    """A real WIF written over its colour repeat (Handweaving.net 8452: 84
+    ends and 100 picks whose lifts repeat every 28 and 50) bakes the weave's
+    repeat, 3 x 2 of them per repeat of the draft as written; the scene's
+    repeats_per_uv counts the draft as written (84 ends per UV here), and the
+    add-on reads the material at 3 x 2 times it (an anisotropic UV scale):
+    Cycles against lookup-render, which maps by the scene's own cloth."""
+    folder = os.path.join(TMP, "wif")
+    os.makedirs(folder, exist_ok=True)
+    cloth = {"name": "hw_8452",
+             "weave": {"wif": os.path.join(SOURCE, "testscenes", "wif", "real", "hw_8452.wif")},
+             "resolution": {"cells_per_thread": 2}}
+    with open(os.path.join(folder, "cloth.json"), "w") as f:
+        json.dump(cloth, f)
+    with open(os.path.join(PAPER, "scene.json")) as f:
+        scene = json.load(f)
+    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
+                               repeats_per_uv=1)
+    path = os.path.join(folder, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    material = os.path.join(folder, "material")
+    run(["material", path, "-o", material, "--texels", "16", "--directions", "8",
+         "--light-directions", "6", "--spp", "2", "--field-supersample", "1",
+         "--parts", "specular-warp-weft", "--quiet"])
+    info = read_material(material)
+    check(info.written_repeats == (3.0, 2.0),
+          f"hw_8452 bakes its weave's repeat, 3 x 2 per draft as written ({info.written_repeats})")
+    ref = reference(path, material, "wif")
+    (obj,) = import_scene(path, clear=True, samples=SPP)
+    bpy.context.scene.cycles.use_denoising = False
+    bilinear_patches(obj)
+    _, notes = apply_material(obj, material, route="exact")
+    print("wif notes:", notes)
+    check(not any("depth scale" in n for n in notes), f"no depth-scale note ({notes})")
+    got = pair("wif")
+    compare("Cycles, a WIF written over its colour repeat, against lookup-render", got, ref)
+    save_png(np.concatenate([ref, got[0]], 1),
+             os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_wif_written.png"))
 
 
 run_checks(main)

@@ -53,6 +53,11 @@ class ClothMaterial {
   ClothSpec cloth;
   YarnPalette palette;
   YarnColours colours;
+  /// Repeats of `cloth` in one repeat of the baked cloth's draft as written
+  /// (colour_free_repeats): what a reader that maps UVs by repeats_per_uv
+  /// multiplies by (a WIF written over its colour repeat is baked over its
+  /// weave's). 1 x 1 for RGB parts.
+  Imath::V2f written_repeats{1.0f, 1.0f};
   std::shared_ptr<const ThreadLayout> warp_threads, weft_threads;  ///< of `cloth`
   DirectionGrid view_grid, light_grid;
   /// A part of a sharded bake holds only its view nodes (material_shard.h);

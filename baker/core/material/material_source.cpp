@@ -19,6 +19,7 @@ void make_colour_free(const ClothSpec& spec, uint64_t budget, MaterialSource& sr
   src.parts = MaterialParts::SpecularWarpWeft;
   src.cloth = colour_free(spec);
   src.palette = palette_of(spec);
+  src.written_repeats = colour_free_repeats(spec);
   src.owned_volume = std::make_shared<const VolumeTexture>(generate_volume(src.cloth, budget));
   src.volume = src.owned_volume.get();
 }

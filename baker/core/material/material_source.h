@@ -25,6 +25,9 @@ struct MaterialSource {
   MaterialParts parts = MaterialParts::Rgb;
   ClothSpec cloth;      ///< colour-free parts: the colour-free spec `volume` was generated from
   YarnPalette palette;  ///< colour-free parts: the cloth's own colours
+  /// Colour-free parts: repeats of `cloth` in one repeat of the cloth's draft
+  /// as written (colour_free_repeats, cloth_colours.h).
+  Imath::V2f written_repeats{1.0f, 1.0f};
 };
 
 /// Whether a bake asked for colour-free parts gets them, and if not why

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <charconv>
+#include <cstddef>
 #include <tuple>
 
 #include "core/weave/thread_layout.h"
@@ -14,6 +15,20 @@ int scaled_cells(int cells_full, int threads_full, int threads_free) {
   const long long exact = (long long)cells_full * threads_free;
   if (exact % threads_full == 0) return int(exact / threads_full);
   return std::max(1, int(std::lround(double(exact) / double(threads_full))));
+}
+
+/// The shortest prefix of `v` that repeats to give it (its length divides
+/// v's): a WIF writes one value per thread over its whole threading.
+template <class T>
+std::vector<T> smallest_period(const std::vector<T>& v) {
+  const size_t n = v.size();
+  for (size_t p = 1; p < n; ++p) {
+    if (n % p != 0) continue;
+    bool tiles = true;
+    for (size_t i = p; i < n && tiles; ++i) tiles = v[i] == v[i - p];
+    if (tiles) return std::vector<T>(v.begin(), v.begin() + std::ptrdiff_t(p));
+  }
+  return v;
 }
 
 std::string text(float v) {  // shortest text that reads back as v
@@ -50,20 +65,49 @@ ClothSpec colour_free(const ClothSpec& spec) {
       for (int c = 0; c < draft.ends(); ++c) out.draft[r][c] = draft.warp_up(r, c) ? 1 : 0;
     out.pattern = "plain";
   }
+  // Without its colours the cloth repeats over the drawdown's smallest
+  // repeat and the per-thread sequences' smallest periods: a WIF writes its
+  // whole threading (a plain weave over 214 ends to carry its colour
+  // stripes), and a material baked over the threads as written would grow
+  // with the colours' repeat. The first threads are kept, so thread 0 stays
+  // thread 0 and the reduced repeat divides the written one.
+  const WeaveDraft weave = draft_of(out).smallest_repeat();
+  if (!out.draft.empty() && (weave.ends() != draft.ends() || weave.picks() != draft.picks())) {
+    out.draft.assign(size_t(weave.picks()), std::vector<int>(size_t(weave.ends()), 0));
+    for (int r = 0; r < weave.picks(); ++r)
+      for (int c = 0; c < weave.ends(); ++c) out.draft[r][c] = weave.warp_up(r, c) ? 1 : 0;
+  }
+  for (YarnSpec* y : {&out.warp, &out.weft}) {
+    y->spacings_mm = smallest_period(y->spacings_mm);
+    y->widths_mm = smallest_period(y->widths_mm);
+  }
   out.draft_source.clear();
   out.draft_program.clear();
-  const ThreadLayout free_ends(out.warp, draft.ends(), "warp");
-  const ThreadLayout free_picks(out.weft, draft.picks(), "weft");
+  const ThreadLayout free_ends(out.warp, weave.ends(), "warp");
+  const ThreadLayout free_picks(out.weft, weave.picks(), "weft");
   out.resolution.cells_x = scaled_cells(full.cells_x, ends.count(), free_ends.count());
   out.resolution.cells_y = scaled_cells(full.cells_y, picks.count(), free_picks.count());
   return out;
 }
 
 Imath::V2f weave_repeat_mm(const ClothSpec& spec) {
+  // The draft as written, without the colour sequences (colour_free() would
+  // also cut it to its smallest repeat).
+  YarnSpec warp = spec.warp, weft = spec.weft;
+  warp.colors.clear();
+  weft.colors.clear();
+  const WeaveDraft draft = draft_of(spec);
+  return Imath::V2f(ThreadLayout(warp, draft.ends(), "warp").repeat_mm(),
+                    ThreadLayout(weft, draft.picks(), "weft").repeat_mm());
+}
+
+Imath::V2f colour_free_repeats(const ClothSpec& spec) {
   const ClothSpec free = colour_free(spec);
   const WeaveDraft draft = draft_of(free);
-  return Imath::V2f(ThreadLayout(free.warp, draft.ends(), "warp").repeat_mm(),
-                    ThreadLayout(free.weft, draft.picks(), "weft").repeat_mm());
+  const Imath::V2f free_mm(ThreadLayout(free.warp, draft.ends(), "warp").repeat_mm(),
+                           ThreadLayout(free.weft, draft.picks(), "weft").repeat_mm());
+  const Imath::V2f written = weave_repeat_mm(spec);
+  return Imath::V2f(std::round(written.x / free_mm.x), std::round(written.y / free_mm.y));
 }
 
 ClothDifference first_difference(const ClothSpec& a, const ClothSpec& b) {

@@ -27,10 +27,10 @@ void append_thread(std::string& key, const YarnSpec& yarn, const ThreadLayout& l
 
 NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
   const ClothSpec spec = colour_free(coloured);
-  // The drawdown over its smallest repeat (a WIF's plain weave written over
-  // 214 ends repeats every 2); the spacing and width sequences may lengthen
-  // the layouts' repeat again.
-  const WeaveDraft draft = draft_of(spec).smallest_repeat();
+  // colour_free() cuts the drawdown to its smallest repeat (a WIF's plain
+  // weave written over 214 ends repeats every 2); the spacing and width
+  // sequences may lengthen the layouts' repeat again.
+  const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends = thread_layout(spec, draft, true);
   const ThreadLayout picks = thread_layout(spec, draft, false);
   NeighbourhoodCounts out;

@@ -8,8 +8,7 @@
 /// Colours never count (a colour-free material takes them at render time):
 /// the repeat is the cloth's without its colours (colour_free), the draft's
 /// smallest repeat (WeaveDraft::smallest_repeat) and the per-thread spacings'
-/// and widths'. (The material itself still takes the draft as written: a WIF
-/// that writes a plain weave over 214 ends bakes 214 ends per repeat.) A neighbourhood is a window of
+/// and widths' smallest periods. A neighbourhood is a window of
 /// the periodic drawdown around a crossing, with the spacing and the width of
 /// each thread in the window:
 ///   plus 1       the crossing and the crossings either side of it along its

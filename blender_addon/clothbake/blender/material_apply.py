@@ -123,6 +123,7 @@ def write_face_world_per_uv(obj, uv_name):
 
 
 def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
+    # `repeats`: the material's repeats per UV, one number or (along u, along v).
     """The factors that carry a direction in the UV frame (d.T, d.B, d.N)
     into the material's frame as lookup-render does it (texture mm per world
     unit along each axis, surface_frame.h, then z over the material's depth
@@ -139,6 +140,7 @@ def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
     mesh.calc_loop_triangles()
     n = len(mesh.loop_triangles)
     rx, ry, rz = info.repeat_mm
+    rep_u, rep_v = repeats if isinstance(repeats, tuple) else (repeats, repeats)
     if n and layer is not None and thickness > 0 and info.depth_scale > 0:
         p, t, face = _triangles(mesh, obj.matrix_world, layer)
         e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]], axis=2)        # 3 x 2 world
@@ -153,8 +155,8 @@ def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
         a_u = np.bincount(face, w * np.linalg.norm(jac[:, :, 0], axis=1), n_faces)
         a_v = np.bincount(face, w * np.linalg.norm(jac[:, :, 1], axis=1), n_faces)
         good = (a_u > 0) & (a_v > 0)
-        mx = rx * repeats / np.where(good, a_u, 1.0) * np.bincount(face, w, n_faces)
-        my = ry * repeats / np.where(good, a_v, 1.0) * np.bincount(face, w, n_faces)
+        mx = rx * rep_u / np.where(good, a_u, 1.0) * np.bincount(face, w, n_faces)
+        my = ry * rep_v / np.where(good, a_v, 1.0) * np.bincount(face, w, n_faces)
         mz = rz / thickness
         ex = np.sqrt(np.where(good, mx / np.where(good, my, 1.0), 1.0))
         depth = mz / np.sqrt(np.where(good, mx * my, 1.0))
@@ -228,7 +230,7 @@ def _uv_map_to_use(obj, route):
     return uv_name
 
 
-def _fill_material_tree(tree, group, uv_name):
+def _fill_material_tree(tree, group, uv_name, written=(1.0, 1.0)):
     """The material's own nodes: the group fed the UV map, its tangent and
     its signed bitangent (a Normal Map node in tangent space fed
     (0.5, 1, 0.5): the tangent space's sign, live under modifiers and
@@ -249,13 +251,28 @@ def _fill_material_tree(tree, group, uv_name):
     bitangent.label = "signed bitangent"
     bitangent.inputs["Color"].default_value = (0.5, 1.0, 0.5, 1.0)
     bitangent.location = (-300, -300)
+    uv_out = uv.outputs["UV"]
+    if written[0] != written[1]:
+        # The material holds a repeat of the weave; the object's repeats per
+        # UV count its draft as written (a WIF's whole threading), kx x ky
+        # material repeats: the group's Repeats per UV takes k = sqrt(kx ky)
+        # (apply_material), this node the rest, kx / k along u and ky / k
+        # along v.
+        k = (written[0] * written[1]) ** 0.5
+        scale_uv = tree.nodes.new("ShaderNodeVectorMath")
+        scale_uv.operation = "MULTIPLY"
+        scale_uv.label = "written draft to material repeats"
+        scale_uv.inputs[1].default_value = (written[0] / k, written[1] / k, 1.0)
+        scale_uv.location = (-150, 250)
+        tree.links.new(uv_out, scale_uv.inputs[0])
+        uv_out = scale_uv.outputs["Vector"]
     # The group node after its feeds: Cycles compiles in creation order
     # (graph.Graph.converted), and a group node made first would wait a
     # pass for them.
     node = tree.nodes.new("ShaderNodeGroup")
     node.node_tree = group
     node.location = (0, 0)
-    tree.links.new(uv.outputs["UV"], node.inputs["UV"])
+    tree.links.new(uv_out, node.inputs["UV"])
     tree.links.new(tangent.outputs["Tangent"], node.inputs["Tangent"])
     tree.links.new(bitangent.outputs["Normal"], node.inputs["Bitangent"])
     return node
@@ -317,10 +334,12 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     material = bpy.data.materials.get(name) or bpy.data.materials.new(name)
     material.use_nodes = True
     tree = material.node_tree
-    node = _fill_material_tree(tree, group, uv_name)
+    written = tuple(info.written_repeats)
+    node = _fill_material_tree(tree, group, uv_name, written)
     repeats, thickness = _cloth_settings(obj)
-    write_face_frame_scale(obj, uv_name, info, repeats, thickness)
-    node.inputs["Repeats per UV"].default_value = repeats
+    write_face_frame_scale(obj, uv_name, info, (repeats * written[0], repeats * written[1]),
+                           thickness)
+    node.inputs["Repeats per UV"].default_value = repeats * (written[0] * written[1]) ** 0.5
     node.inputs["World per UV"].default_value = scale
     out = tree.nodes.new("ShaderNodeOutputMaterial")
     out.location = (300, 0)
@@ -357,7 +376,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     if unmeasured:
         notes.append(f"{unmeasured} face(s) of '{obj.name}' have no UV area: their weave's "
                      "level follows the mesh's mean scale")
-    depth = _depth_note(obj, info, repeats, thickness, scale)
+    depth = _depth_note(obj, info, repeats * written[0], thickness, scale)
     if depth:
         notes.append(depth)
     if pack.rank < max(info.ranks):

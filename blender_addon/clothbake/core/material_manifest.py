@@ -42,6 +42,11 @@ class MaterialInfo:
     centres_mm: dict = None   # each thread's centre over one repeat, mm (x: warp, y: weft)
     colors: dict = None       # the baked-with colours: {"color": [r, g, b], "colors": [...]}
     parallax_depth_mm: float = 0.0  # --view-parallax's depth (view_parallax.h); 0: none
+    # SWF only: repeats of the material in one repeat of the baked cloth's
+    # draft as written (x, y), what an object's repeats_per_uv counts: a WIF
+    # written over its colour repeat is baked over its weave's (107 x 107 for
+    # a plain weave written over 214 ends and picks).
+    written_repeats: tuple = (1.0, 1.0)
 
     @property
     def channels(self):
@@ -149,13 +154,26 @@ def read_material(folder):
     cloth = m.get("cloth") if isinstance(m.get("cloth"), dict) else {}
     repeat = [float(x) for x in repeat]
     centres = colors = None
+    written = (1.0, 1.0)
     if parts == SWF:
         centres = _thread_centres(cloth, repeat, path)
         colors = _baked_colours(cloth, path)
+        written = _written_repeats(cloth, path)
     return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
                         repeat, float(optics["depth_scale"]),
                         str(cloth.get("name", "")), str(cloth.get("hash", "")), parts,
-                        centres, colors, float(parallax))
+                        centres, colors, float(parallax), written)
+
+
+def _written_repeats(cloth, path):
+    """cloth.written_repeats: two whole numbers >= 1 (absent: 1, 1)."""
+    w = cloth.get("written_repeats", [1, 1])
+    if not isinstance(w, list) or len(w) != 2 or not all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and x >= 1 and
+            float(x).is_integer() for x in w):
+        raise ClothbakeError("must be two whole numbers of at least 1", path,
+                             "cloth.written_repeats")
+    return (float(w[0]), float(w[1]))
 
 
 def _rgb(value):

@@ -120,6 +120,44 @@ TEST(ColourFree, KeepsTheWeaveAndNamesTheFirstDifference) {
   EXPECT_EQ(first_difference(colour_free(d), free).field, "");
 }
 
+// A WIF writes its whole threading: a plain weave written over 6 ends and 4
+// picks to carry colour stripes, each end's spacing written out. Without
+// its colours it is the 2 x 2 plain weave with the spacings' own period, at
+// the cell size the written cloth resolves to; the same cloth written once
+// gives the same colour-free spec. A draft that does not repeat stays whole.
+TEST(ColourFree, ADraftWrittenOverItsColourRepeatIsCutToItsWeave) {
+  ClothSpec written;
+  written.draft = {{1, 0, 1, 0, 1, 0}, {0, 1, 0, 1, 0, 1}, {1, 0, 1, 0, 1, 0}, {0, 1, 0, 1, 0, 1}};
+  written.warp.spacings_mm = {0.5f, 0.6f, 0.5f, 0.6f, 0.5f, 0.6f};
+  written.warp.colors = {k_red, k_red, k_green, k_green, k_blue, k_blue};
+  written.weft.colors = {k_blue, k_blue, k_red, k_red};
+  written.resolution.cells_x = 66;  // 6 ends over 3.3 mm: 20 cells per mm
+  written.resolution.cells_y = 32;
+  const ClothSpec free = colour_free(written);
+  EXPECT_EQ(free.draft, (std::vector<std::vector<int>>{{1, 0}, {0, 1}}));
+  EXPECT_EQ(free.warp.spacings_mm, (std::vector<float>{0.5f, 0.6f}));
+  EXPECT_EQ(free.resolution.cells_x, 22);  // 1.1 mm at 20 per mm
+  EXPECT_EQ(free.resolution.cells_y, 16);
+  ClothSpec once = written;
+  once.draft = {{1, 0}, {0, 1}};
+  once.warp.spacings_mm = {0.5f, 0.6f};
+  once.warp.colors.clear();
+  once.weft.colors.clear();
+  once.resolution.cells_x = 22;
+  once.resolution.cells_y = 16;
+  EXPECT_EQ(first_difference(colour_free(once), free).field, "");
+  // A scene's repeats_per_uv still counts the draft as written (3.3 x 2 mm):
+  // 3 x 2 repeats of the colour-free cloth.
+  EXPECT_NEAR(weave_repeat_mm(written).x, 3.3f, 1e-5f);
+  EXPECT_NEAR(weave_repeat_mm(written).y, 2.0f, 1e-6f);
+  EXPECT_EQ(colour_free_repeats(written), Imath::V2f(3.0f, 2.0f));
+  EXPECT_EQ(colour_free_repeats(once), Imath::V2f(1.0f, 1.0f));
+
+  ClothSpec twill;
+  twill.draft = {{1, 1, 0, 0}, {0, 1, 1, 0}, {0, 0, 1, 1}, {1, 0, 0, 1}};
+  EXPECT_EQ(colour_free(twill).draft, twill.draft);
+}
+
 // A colour sequence spanning q weave repeats tiles the colour-free cloth's
 // cells q times: density, tangent and specular the same, diffuse the thread's
 // colour times the same scale. So a colour-free material is exactly this
