@@ -23,7 +23,10 @@ camera, lights and folds) at 80 ends per UV is rendered by lookup-render
 from the whole-repeat material and from both rewritten ones, against a
 converged reference (64 spp, a quarter of the march step, no roulette).
 
-Prints relative RMSE (whole image, and after a 4 x 4 box filter) and writes
+`--no-randomness` takes the per-crossing randomness out of the cloth (as
+neighbourhood_reach.py does), so that crossings with the same surroundings
+differ only by the bake's noise. Prints relative RMSE (whole image, and
+after a 4 x 4 box filter) and writes
 WORK_DIR/results.json and WORK_DIR/sheet.png.
 """
 import argparse
@@ -136,6 +139,10 @@ def main():
     ap.add_argument("exe")
     ap.add_argument("work")
     ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--no-randomness", action="store_true",
+                    help="take the per-crossing randomness out (density noise 0, shading "
+                         "variation 0, no ply twist) and bake 16 cells per thread: what is "
+                         "left between addressed and whole is the neighbourhood's reach")
     args = ap.parse_args()
     exe, work = os.path.abspath(args.exe), os.path.abspath(args.work)
     os.makedirs(work, exist_ok=True)
@@ -145,6 +152,12 @@ def main():
     cloth.pop("weave", None)
     cloth.update(name="diamond", weave={"draft": draft})
     cloth["resolution"].update(cells_x=32 * ENDS, cells_y=32 * ENDS)  # the paper's 32 per thread
+    if args.no_randomness:
+        cloth["density"]["noise_amplitude"] = 0.0
+        cloth["shading"]["variation"] = 0.0
+        for family in ("warp", "weft"):
+            cloth[family]["twist_deg"] = 0.0
+        cloth["resolution"].update(cells_x=16 * ENDS, cells_y=16 * ENDS)
     with open(os.path.join(work, "cloth.json"), "w") as f:
         json.dump(cloth, f, indent=1)
     scene = json.load(open(os.path.join(PAPER, "scene.json")))

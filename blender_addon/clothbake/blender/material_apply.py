@@ -282,14 +282,17 @@ def _depth_note(obj, info, repeats, thickness, scale):
     """The weave's depth in the material against this object's
     (docs/material-format.md): a note when they differ by more than the
     program's tolerance, else None."""
-    mm_along = info.repeat_mm[0] * repeats / scale
+    # The geometric mean of the two axes, as object_optics (C++) takes it.
+    rep_u, rep_v = repeats if isinstance(repeats, tuple) else (repeats, repeats)
+    mm_along = (info.repeat_mm[0] * rep_u * info.repeat_mm[1] * rep_v) ** 0.5 / scale
     if not (thickness > 0 and mm_along > 0):
         return None
     object_depth = info.repeat_mm[2] / thickness / mm_along
     if not abs(object_depth / info.depth_scale - 1.0) > DEPTH_SCALE_TOLERANCE:
         return None
     return (f"object '{obj.name}': its depth scale {object_depth:.3g} (thickness "
-            f"{thickness:g}, {repeats:g} repeats per UV, {scale:.3g} world units per "
+            f"{thickness:g}, {rep_u:g} x {rep_v:g} material repeats per UV, {scale:.3g} "
+            "world units per "
             f"UV) differs from the material's {info.depth_scale:.3g} by more than "
             f"{DEPTH_SCALE_TOLERANCE:.0%}: the weave is shaded as the material's thickness")
 
@@ -376,7 +379,8 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     if unmeasured:
         notes.append(f"{unmeasured} face(s) of '{obj.name}' have no UV area: their weave's "
                      "level follows the mesh's mean scale")
-    depth = _depth_note(obj, info, repeats * written[0], thickness, scale)
+    depth = _depth_note(obj, info, (repeats * written[0], repeats * written[1]), thickness,
+                        scale)
     if depth:
         notes.append(depth)
     if pack.rank < max(info.ranks):
