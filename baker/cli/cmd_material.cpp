@@ -25,6 +25,7 @@
 #include "core/scene/scene_checks.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
+#include "core/weave/thread_layout.h"
 #include "io/cloth_spec_json.h"
 #include "io/enum_names.h"
 #include "io/folder_output.h"
@@ -58,7 +59,18 @@ struct MaterialInput {
   std::unique_ptr<ClothScene> prepared;
   MaterialSource source;
   std::string cloth_name;
+  /// Warp ends and weft picks over the material's repeat (0: a VDB volume,
+  /// whose threads are not known).
+  int ends = 0, picks = 0;
 };
+
+/// The threads over the repeat of `spec` (its colour-free cut when the
+/// parts are colour-free: what the material's texels cover).
+void count_threads(const ClothSpec& spec, MaterialInput& in) {
+  const WeaveDraft draft = draft_of(spec);
+  in.ends = thread_layout(spec, draft, true).count();
+  in.picks = thread_layout(spec, draft, false).count();
+}
 
 MaterialInput read_input(const MaterialArgs& args, uint64_t budget) {
   MaterialInput in;
@@ -78,14 +90,20 @@ MaterialInput read_input(const MaterialArgs& args, uint64_t budget) {
       in.prepared = std::make_unique<ClothScene>(*in.scene, budget);
       in.source = material_source(*in.prepared, o, parts, budget);
       in.cloth_name = in.scene->objects[size_t(o)].name;
+      if (in.source.parts == MaterialParts::SpecularWarpWeft)
+        count_threads(in.source.cloth, in);
+      else if (!scene.objects[size_t(o)].volume)
+        count_threads(scene.objects[size_t(o)].cloth, in);
       if (args.parts == "specular-warp-weft" && in.source.parts != parts)
         throw InputError("--parts", "colour-free parts are not possible for this object: " +
                                         colour_parts_refusal(scene.settings.shading,
                                                              scene.objects[size_t(o)].volume !=
                                                                  nullptr));
     } else {
-      in.source = material_source(io::load_cloth_spec(args.input), parts, budget);
+      const ClothSpec spec = io::load_cloth_spec(args.input);
+      in.source = material_source(spec, parts, budget);
       in.cloth_name = std::filesystem::path(args.input).stem().string();
+      count_threads(parts == MaterialParts::SpecularWarpWeft ? in.source.cloth : spec, in);
     }
   } catch (const InputError& e) {
     throw e.in_file(args.input);
@@ -116,6 +134,22 @@ void run_material(const MaterialArgs& args) {
   const MaterialInput in = read_input(args, budget);
   const MaterialSource& src = in.source;
   settings.parts = src.parts;
+  // R texels span the whole repeat: a draft of many threads leaves few per
+  // thread, and below 2 the over-and-under of neighbouring threads falls
+  // inside one texel. Said before the work, not refused: the bake is still
+  // the box average of the cloth.
+  const int threads_across = std::max(in.ends, in.picks);
+  const double texels_per_thread = threads_across > 0 ? double(settings.texels) / threads_across : 0.0;
+  if (threads_across > 0 && texels_per_thread < 2.0) {
+    int texels = settings.texels;
+    while (texels < k_max_material_texels && double(texels) / threads_across < 4.0) texels *= 2;
+    std::fprintf(stderr,
+                 "clothbake: warning: --texels %d spans %d x %d threads per repeat: %.2f texels "
+                 "per thread, too few to resolve the weave (at least 2; the paper cloth has "
+                 "16). --texels %d gives %.1f (see --estimate for its cost).\n",
+                 settings.texels, in.ends, in.picks, texels_per_thread, texels,
+                 double(texels) / threads_across);
+  }
   const uint64_t fixed = material_bake_fixed_bytes(*src.volume, settings, threads);
   if (fixed > budget)
     throw InputError("--memory", "the bake needs at least " + std::to_string(fixed >> 20) +
@@ -126,7 +160,9 @@ void run_material(const MaterialArgs& args) {
         probe_material(*src.volume, *src.shader, src.optics, settings, threads,
                        src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth : nullptr,
                        shard);
-    std::printf("%s\n", io::material_estimate_json(settings, e, threads).dump(2).c_str());
+    nlohmann::json j = io::material_estimate_json(settings, e, threads);
+    if (threads_across > 0) j["texels_per_thread"] = texels_per_thread;
+    std::printf("%s\n", j.dump(2).c_str());
     return;
   }
 
@@ -152,7 +188,9 @@ void run_material(const MaterialArgs& args) {
   info.source = std::filesystem::path(args.input).filename().string();
   info.stats = stats;
   io::write_material(args.out_dir, material, info);
-  std::printf("%s\n", io::material_bake_report_json(material, stats, seconds, threads).dump().c_str());
+  nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
+  if (threads_across > 0) report["texels_per_thread"] = texels_per_thread;
+  std::printf("%s\n", report.dump().c_str());
 }
 }  // namespace
 

@@ -20,6 +20,20 @@ small=(--texels 8 --directions 4 --light-directions 4 --spp 1 --quiet)
 [[ -e $tmp/est ]] && fail "--estimate wrote the folder"
 compgen -G "$tmp/est.*-*" && fail "--estimate left a temporary folder"
 echo "ok   --estimate writes nothing: $(tr -d ' \n' <"$tmp/est.json")"
+# Texels per thread: the paper's 2-thread repeat at R 8 has 4, no warning;
+# a real WIF whose weave spans 62 threads (wi_32twill) at R 8 has 0.13, and
+# the estimate says so and names a --texels that resolves it.
+python3 -c "import json,sys; e=json.load(open(sys.argv[1])); assert e['texels_per_thread'] == 4.0, e" \
+  "$tmp/est.json" || fail "the paper at R 8: texels_per_thread"
+[[ -s $tmp/est.err ]] && fail "the paper at R 8 warned: $(cat "$tmp/est.err")"
+printf '{"weave": {"wif": "%s"}, "resolution": {"cells_per_thread": 1, "layers": 4}}\n' \
+  "$root/testscenes/wif/real/wi_32twill.wif" >"$tmp/twill.json"
+"$exe" material "$tmp/twill.json" -o "$tmp/twill" --estimate "${small[@]}" >"$tmp/twill.out" \
+  2>"$tmp/twill.err" || fail "estimate of wi_32twill: $(cat "$tmp/twill.err")"
+grep -qF "warning: --texels 8 spans 62 x 62 threads per repeat: 0.13 texels per thread" \
+  "$tmp/twill.err" || fail "wi_32twill at R 8: $(cat "$tmp/twill.err")"
+grep -qF -- "--texels 256 gives 4.1" "$tmp/twill.err" || fail "the advice: $(cat "$tmp/twill.err")"
+echo "ok   few texels per thread warned: $(cat "$tmp/twill.err")"
 
 "$exe" material "$paper" -o "$tmp/real" "${small[@]}" >"$tmp/real.json" || fail "the real bake"
 /usr/bin/python3 - "$tmp/est.json" "$tmp/real.json" <<'PY' || fail "estimate JSON against the bake"
