@@ -82,3 +82,11 @@ def test_estimate_text():
     assert program.estimate_text(42, 3 * 2**20) == "about 42 s, 3 MiB"
     assert program.estimate_text(600, 10, bound="up to ") == "about 10 min, up to 1 MiB"
     assert program.duration_text(7200) == "2.0 h"
+
+
+def test_texels_note():
+    # The program's figures (cli.material_estimate): wi_32twill's 62 threads.
+    assert program.texels_note({"texels": 32, "texels_per_thread": 32 / 62}) == \
+        "0.52 texels per thread: too few to show the weave (Texels 256 gives 4.1)"
+    assert program.texels_note({"texels": 32, "texels_per_thread": 16.0}) == ""
+    assert program.texels_note({"texels": 32}) == ""   # a VDB volume: threads unknown

@@ -93,7 +93,9 @@ def estimate_material(context):
     seconds = float(report["seconds"])
     size = int(report["max_bytes"])
     settings = context.scene.clothbake
-    settings.material_estimate = runner.estimate_text(seconds, size, bound="up to ")
+    note = runner.texels_note(report)
+    settings.material_estimate = runner.estimate_text(seconds, size, bound="up to ") + \
+        (f"; {note}" if note else "")
     settings.material_estimate_for = _estimate_key(context)
     return seconds, size
 

@@ -173,8 +173,13 @@ def _estimate_row(col, current, estimate, operator):
     exactly these settings, else the button that makes one."""
     row = col.row(align=True)
     if current:
-        row.label(text=estimate, icon="TIME")
+        # A warning after "; " (program.texels_note) on a line of its own:
+        # the panel is narrow.
+        text, _, warning = estimate.partition("; ")
+        row.label(text=text, icon="TIME")
         row.operator(operator.bl_idname, text="", icon="FILE_REFRESH")
+        if warning:
+            col.label(text=warning, icon="ERROR")
     else:
         row.operator(operator.bl_idname, text="Estimate time and size", icon="TIME")
 
