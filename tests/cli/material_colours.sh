@@ -56,6 +56,27 @@ print("ok   mean RGB over the cloth: " + ", ".join(f"{v} {np.round(m, 4)}" for v
 ok = b_r["blue"] > 2 * b_r["same"] and g_r["stripe"] > 1.3 * g_r["same"]
 sys.exit(0 if ok else 1)
 PY
+# The stripe written as a WIF writes it: the plain weave's draft over the
+# 6 ends and 6 picks of the colours' repeat, 32 cells per thread written out
+# for it, repeats_per_uv counting that written repeat (3 of the weave's).
+# Cut to its weave, it is the same colour-free cloth: the material takes it
+# and renders the same image.
+variant written "
+c['warp']['colors'] = [[0.6, 0.09, 0.08], [0.8, 0.75, 0.6], [0.1, 0.3, 0.1]]
+c['weave'] = {'draft': [[(r + e + 1) % 2 for e in range(6)] for r in range(6)]}
+c['resolution'].update(cells_x=192, cells_y=192)"
+/usr/bin/python3 - "$tmp/written/scene.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["objects"][0]["repeats_per_uv"] = s["objects"][0]["repeats_per_uv"] / 3
+json.dump(s, open(sys.argv[1], "w"))
+PY
+"$exe" lookup-render "$tmp/written/scene.json" "$tmp/m" -o "$tmp/written.exr" --spp 2 --quiet \
+  2>"$tmp/written.err" || fail "the stripe written over its colour repeat: $(cat "$tmp/written.err")"
+"$exe" compare "$tmp/stripe.exr" "$tmp/written.exr" --max-relative-rmse 1e-4 --json >"$tmp/w.json" ||
+  fail "the stripe written over its colour repeat renders differently: $(cat "$tmp/w.json")"
+echo "ok   a draft written over its colour repeat is the same material: $(tr -d ' \n' <"$tmp/w.json" | grep -o '"relative_rmse":[^,]*')"
+
 # Anything but colour: refused, the field named, no image written.
 for case in "spacing:objects[0].cloth.warp.spacing_mm" "seed:objects[0].cloth.seed"; do
   v=${case%%:*} field=${case#*:}
