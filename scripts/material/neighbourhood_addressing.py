@@ -27,7 +27,14 @@ converged reference (64 spp, a quarter of the march step, no roulette).
 neighbourhood_reach.py does), so that crossings with the same surroundings
 differ only by the bake's noise. Prints relative RMSE (whole image, and
 after a 4 x 4 box filter) and writes
-WORK_DIR/results.json and WORK_DIR/sheet.png.
+WORK_DIR/results.json and WORK_DIR/sheet.png, with the sizes: the
+whole-repeat folder's bytes, and the addressed layout's estimated as the
+level images' bytes times neighbourhoods / crossings (one block per
+neighbourhood instead of one per crossing) plus the light factors.
+
+    scripts/material/neighbourhood_addressing.py --chart OUT.png WORK_DIR...
+
+draws size against error for the runs in WORK_DIRs (their results.json).
 """
 import argparse
 import json
@@ -129,12 +136,50 @@ def rel_rmse(ref, img, box=1):
     return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(a ** 2)))
 
 
+def sizes(whole, neighbourhoods, crossings):
+    """The whole-repeat folder's bytes, and the addressed layout's estimate."""
+    files = {f: os.path.getsize(os.path.join(whole, f)) for f in os.listdir(whole)}
+    levels = sum(b for f, b in files.items() if f.startswith("level_"))
+    return {"whole": sum(files.values()),
+            "addressed": int(levels * neighbourhoods / crossings) + files["light_factors.exr"]}
+
+
+def chart(out, work_dirs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for work, marker in zip(work_dirs, "os^D"):
+        r = json.load(open(os.path.join(work, "results.json")))
+        label = "no per-crossing randomness" if r.get("no_randomness") else "as generated"
+        pts = [("whole repeat", r["bytes"]["whole"], r["whole"]["whole"]),
+               ("plus-1, mean", r["bytes"]["addressed"], r["mean"]["whole"]),
+               ("plus-1, first", r["bytes"]["addressed"], r["first"]["whole"])]
+        ax.plot([p[1] / 1e6 for p in pts], [100 * p[2] for p in pts], marker, ls="none",
+                label=label)
+        for (name, b, e), dy in zip(pts, (4, -12, 6)):
+            ax.annotate(name, (b / 1e6, 100 * e), textcoords="offset points", xytext=(6, dy),
+                        fontsize=8)
+    ax.set_xlabel("material folder (MB; addressed: estimated)")
+    ax.set_ylabel("relative RMSE per pixel against the reference (%)")
+    ax.set_title("8 x 8 diamond on the paper scene, lookup-render 64 spp")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
 def srgb(a):
     a = np.clip(a, 0, None)
     return np.where(a <= 0.0031308, 12.92 * a, 1.055 * np.power(a, 1 / 2.4) - 0.055).clip(0, 1)
 
 
 def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "--chart":
+        chart(sys.argv[2], sys.argv[3:])
+        return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("exe")
     ap.add_argument("work")
@@ -179,7 +224,7 @@ def main():
     if not os.path.exists(os.path.join(whole, "manifest.json")):
         run([exe, "material", os.path.join(work, "scene.json"), "-o", whole, "--texels",
              str(TEXELS), "--quiet"])
-    results = {"draft": draft, "crossings": ENDS * ENDS}
+    results = {"draft": draft, "crossings": ENDS * ENDS, "no_randomness": args.no_randomness}
     images = [ref]
     for how in ("whole", "mean", "first"):
         folder = whole
@@ -195,6 +240,7 @@ def main():
                 os.path.join(work, "lookup_whole.exr"), img)
         images.append(img)
         print(f"{how}: {results[how]}", flush=True)
+    results["bytes"] = sizes(whole, results["neighbourhoods"], ENDS * ENDS)
     sheet = np.concatenate([srgb(pixels(p)) for p in images], axis=1).astype(np.float32)
     buf = oiio.ImageBuf(oiio.ImageSpec(sheet.shape[1], sheet.shape[0], 3, oiio.FLOAT))
     buf.set_pixels(oiio.ROI(), sheet)
