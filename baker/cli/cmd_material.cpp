@@ -140,9 +140,17 @@ void run_material(const MaterialArgs& args) {
   // the box average of the cloth.
   const int threads_across = std::max(in.ends, in.picks);
   const double texels_per_thread = threads_across > 0 ? double(settings.texels) / threads_across : 0.0;
+  int texels = settings.texels;  // the advice: the smallest R that gives 4
+  while (threads_across > 0 && texels < k_max_material_texels &&
+         double(texels) / threads_across < 4.0)
+    texels *= 2;
+  // What the report and --estimate add (the add-on shows it as the warning).
+  auto add_texels = [&](nlohmann::json& j) {
+    if (threads_across == 0) return;
+    j["texels_per_thread"] = texels_per_thread;
+    if (texels_per_thread < 2.0) j["texels_advised"] = texels;
+  };
   if (threads_across > 0 && texels_per_thread < 2.0) {
-    int texels = settings.texels;
-    while (texels < k_max_material_texels && double(texels) / threads_across < 4.0) texels *= 2;
     std::fprintf(stderr,
                  "clothbake: warning: --texels %d spans %d x %d threads per repeat: %.2f texels "
                  "per thread, too few to resolve the weave (at least 2; the paper cloth has "
@@ -161,7 +169,7 @@ void run_material(const MaterialArgs& args) {
                        src.parts == MaterialParts::SpecularWarpWeft ? &src.cloth : nullptr,
                        shard);
     nlohmann::json j = io::material_estimate_json(settings, e, threads);
-    if (threads_across > 0) j["texels_per_thread"] = texels_per_thread;
+    add_texels(j);
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
@@ -189,7 +197,7 @@ void run_material(const MaterialArgs& args) {
   info.stats = stats;
   io::write_material(args.out_dir, material, info);
   nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
-  if (threads_across > 0) report["texels_per_thread"] = texels_per_thread;
+  add_texels(report);
   std::printf("%s\n", report.dump().c_str());
 }
 }  // namespace

@@ -86,7 +86,8 @@ def test_estimate_text():
 
 def test_texels_note():
     # The program's figures (cli.material_estimate): wi_32twill's 62 threads.
-    assert program.texels_note({"texels": 32, "texels_per_thread": 32 / 62}) == \
+    assert program.texels_note({"texels": 32, "texels_per_thread": 32 / 62,
+                                "texels_advised": 256}) == \
         "0.52 texels per thread: too few to show the weave (Texels 256 gives 4.1)"
     assert program.texels_note({"texels": 32, "texels_per_thread": 16.0}) == ""
     assert program.texels_note({"texels": 32}) == ""   # a VDB volume: threads unknown

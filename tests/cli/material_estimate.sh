@@ -23,7 +23,7 @@ echo "ok   --estimate writes nothing: $(tr -d ' \n' <"$tmp/est.json")"
 # Texels per thread: the paper's 2-thread repeat at R 8 has 4, no warning;
 # a real WIF whose weave spans 62 threads (wi_32twill) at R 8 has 0.13, and
 # the estimate says so and names a --texels that resolves it.
-python3 -c "import json,sys; e=json.load(open(sys.argv[1])); assert e['texels_per_thread'] == 4.0, e" \
+python3 -c "import json,sys; e=json.load(open(sys.argv[1])); assert e['texels_per_thread'] == 4.0 and 'texels_advised' not in e, e" \
   "$tmp/est.json" || fail "the paper at R 8: texels_per_thread"
 [[ -s $tmp/est.err ]] && fail "the paper at R 8 warned: $(cat "$tmp/est.err")"
 printf '{"weave": {"wif": "%s"}, "resolution": {"cells_per_thread": 1, "layers": 4}}\n' \
@@ -33,6 +33,8 @@ printf '{"weave": {"wif": "%s"}, "resolution": {"cells_per_thread": 1, "layers":
 grep -qF "warning: --texels 8 spans 62 x 62 threads per repeat: 0.13 texels per thread" \
   "$tmp/twill.err" || fail "wi_32twill at R 8: $(cat "$tmp/twill.err")"
 grep -qF -- "--texels 256 gives 4.1" "$tmp/twill.err" || fail "the advice: $(cat "$tmp/twill.err")"
+python3 -c "import json,sys; e=json.load(open(sys.argv[1])); assert e['texels_advised'] == 256, e" \
+  "$tmp/twill.out" || fail "wi_32twill: texels_advised in the estimate"
 echo "ok   few texels per thread warned: $(cat "$tmp/twill.err")"
 
 "$exe" material "$paper" -o "$tmp/real" "${small[@]}" >"$tmp/real.json" || fail "the real bake"

@@ -57,22 +57,17 @@ ClothSpec colour_free(const ClothSpec& spec) {
     y->color = Imath::V3f(k_neutral_albedo);
     y->colors.clear();
   }
-  // The named pattern becomes its draft, so that a scene naming the pattern
-  // and one giving its draft compare equal.
-  if (out.draft.empty() && out.pattern != k_uniform_pattern) {
-    out.draft.assign(size_t(draft.picks()), std::vector<int>(size_t(draft.ends()), 0));
-    for (int r = 0; r < draft.picks(); ++r)
-      for (int c = 0; c < draft.ends(); ++c) out.draft[r][c] = draft.warp_up(r, c) ? 1 : 0;
-    out.pattern = "plain";
-  }
-  // Without its colours the cloth repeats over the drawdown's smallest
-  // repeat and the per-thread sequences' smallest periods: a WIF writes its
-  // whole threading (a plain weave over 214 ends to carry its colour
-  // stripes), and a material baked over the threads as written would grow
-  // with the colours' repeat. The first threads are kept, so thread 0 stays
-  // thread 0 and the reduced repeat divides the written one.
-  const WeaveDraft weave = draft_of(out).smallest_repeat();
-  if (!out.draft.empty() && (weave.ends() != draft.ends() || weave.picks() != draft.picks())) {
+  // The drawdown over its smallest repeat, written out as the draft: a named
+  // pattern becomes its draft, so that a scene naming the pattern and one
+  // giving its draft compare equal, and a draft written over several
+  // repeats (a WIF writes its whole threading: a plain weave over 214 ends
+  // to carry its colour stripes) is cut to one, so that the material does
+  // not grow with the colours' repeat. With the per-thread sequences cut to
+  // their smallest periods below, the first threads are kept: thread 0
+  // stays thread 0 and the cut repeat divides the written one.
+  const WeaveDraft weave = draft.smallest_repeat();
+  if (out.pattern != k_uniform_pattern || !out.draft.empty()) {
+    if (out.draft.empty()) out.pattern = "plain";  // what a spec with a draft carries
     out.draft.assign(size_t(weave.picks()), std::vector<int>(size_t(weave.ends()), 0));
     for (int r = 0; r < weave.picks(); ++r)
       for (int c = 0; c < weave.ends(); ++c) out.draft[r][c] = weave.warp_up(r, c) ? 1 : 0;

@@ -123,14 +123,14 @@ def write_face_world_per_uv(obj, uv_name):
 
 
 def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
-    # `repeats`: the material's repeats per UV, one number or (along u, along v).
     """The factors that carry a direction in the UV frame (d.T, d.B, d.N)
     into the material's frame as lookup-render does it (texture mm per world
     unit along each axis, surface_frame.h, then z over the material's depth
     scale): per face (e, 1 / e, depth_here / depth_material), e =
     sqrt(mm_per_world.x / mm_per_world.y), from the UV map's Jacobian
     (|dP/du|, |dP/dv|, area-weighted over the face's triangles). Stored on the
-    original mesh as the FACE vector attribute FRAME_SCALE_ATTRIBUTE; where
+    original mesh as the FACE vector attribute FRAME_SCALE_ATTRIBUTE (`repeats`:
+    the material's repeats per UV along u and along v); where
     the UV map runs square and at the material's depth it is (1, 1, 1). A
     face without UV area gets (0, 0, 0), read by the group as (1, 1, 1)."""
     mesh = obj.data
@@ -140,7 +140,7 @@ def write_face_frame_scale(obj, uv_name, info, repeats, thickness):
     mesh.calc_loop_triangles()
     n = len(mesh.loop_triangles)
     rx, ry, rz = info.repeat_mm
-    rep_u, rep_v = repeats if isinstance(repeats, tuple) else (repeats, repeats)
+    rep_u, rep_v = repeats
     if n and layer is not None and thickness > 0 and info.depth_scale > 0:
         p, t, face = _triangles(mesh, obj.matrix_world, layer)
         e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]], axis=2)        # 3 x 2 world
@@ -282,8 +282,9 @@ def _depth_note(obj, info, repeats, thickness, scale):
     """The weave's depth in the material against this object's
     (docs/material-format.md): a note when they differ by more than the
     program's tolerance, else None."""
-    # The geometric mean of the two axes, as object_optics (C++) takes it.
-    rep_u, rep_v = repeats if isinstance(repeats, tuple) else (repeats, repeats)
+    # `repeats`: the material's (along u, along v); the geometric mean of
+    # the two axes, as object_optics (C++) takes it.
+    rep_u, rep_v = repeats
     mm_along = (info.repeat_mm[0] * rep_u * info.repeat_mm[1] * rep_v) ** 0.5 / scale
     if not (thickness > 0 and mm_along > 0):
         return None
@@ -340,8 +341,8 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     written = tuple(info.written_repeats)
     node = _fill_material_tree(tree, group, uv_name, written)
     repeats, thickness = _cloth_settings(obj)
-    write_face_frame_scale(obj, uv_name, info, (repeats * written[0], repeats * written[1]),
-                           thickness)
+    per_uv = (repeats * written[0], repeats * written[1])   # material repeats along u, v
+    write_face_frame_scale(obj, uv_name, info, per_uv, thickness)
     node.inputs["Repeats per UV"].default_value = repeats * (written[0] * written[1]) ** 0.5
     node.inputs["World per UV"].default_value = scale
     out = tree.nodes.new("ShaderNodeOutputMaterial")
@@ -379,8 +380,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     if unmeasured:
         notes.append(f"{unmeasured} face(s) of '{obj.name}' have no UV area: their weave's "
                      "level follows the mesh's mean scale")
-    depth = _depth_note(obj, info, (repeats * written[0], repeats * written[1]), thickness,
-                        scale)
+    depth = _depth_note(obj, info, per_uv, thickness, scale)
     if depth:
         notes.append(depth)
     if pack.rank < max(info.ranks):

@@ -151,18 +151,14 @@ def duration_text(seconds):
 def texels_note(report):
     """From a material report or estimate (`clothbake material`), the
     warning the program prints when the texels leave fewer than 2 per
-    thread, short for the panel, with the Texels that gives at least 4; ""
-    when there are enough (or the threads are not known: a VDB volume)."""
-    per_thread = report.get("texels_per_thread")
-    texels = report.get("texels")
-    if not per_thread or not texels or per_thread >= 2.0:
+    thread, short for the panel, with the Texels it advises (at least 4 per
+    thread); "" when there are enough (or the threads are not known: a VDB
+    volume)."""
+    per_thread, advised = report.get("texels_per_thread"), report.get("texels_advised")
+    if not per_thread or not advised:
         return ""
-    threads = texels / per_thread
-    better = texels
-    while better < 1024 and better / threads < 4.0:
-        better *= 2
     return (f"{per_thread:.2g} texels per thread: too few to show the weave "
-            f"(Texels {better} gives {better / threads:.2g})")
+            f"(Texels {advised} gives {advised * per_thread / report['texels']:.2g})")
 
 
 def estimate_text(seconds, size, bound=""):
