@@ -138,7 +138,9 @@ void run_material(const MaterialArgs& args) {
   // thread, and below 2 the over-and-under of neighbouring threads falls
   // inside one texel. Said before the work, not refused: the bake is still
   // the box average of the cloth.
-  const int threads_across = std::max(in.ends, in.picks);
+  // Addressed per crossing, R texels span one thread whatever the repeat.
+  const int threads_across =
+      settings.address == MaterialAddress::Crossings ? 1 : std::max(in.ends, in.picks);
   const double texels_per_thread = threads_across > 0 ? double(settings.texels) / threads_across : 0.0;
   int texels = settings.texels;  // the advice: the smallest R that gives 4
   while (threads_across > 0 && texels < k_max_material_texels &&
@@ -158,7 +160,9 @@ void run_material(const MaterialArgs& args) {
                  settings.texels, in.ends, in.picks, texels_per_thread, texels,
                  double(texels) / threads_across);
   }
-  const uint64_t fixed = material_bake_fixed_bytes(*src.volume, settings, threads);
+  ClothMaterial shape = unbaked_material(*src.volume, src.optics, settings);
+  if (shape.colour_parts()) shape.set_cloth(src.cloth, src.palette);
+  const uint64_t fixed = material_bake_fixed_bytes(shape, *src.volume, threads);
   if (fixed > budget)
     throw InputError("--memory", "the bake needs at least " + std::to_string(fixed >> 20) +
                                      " MiB (light fields and one view's table per thread), over "
@@ -254,6 +258,19 @@ void register_material_command(CLI::App& app, Action action) {
   cmd->add_flag("--view-parallax,!--no-view-parallax", s.view_parallax,
                "read each view node where its ray meets the eye's at a depth fitted to the "
                "material (sharper weave between view nodes of a thick cloth)")
+      ->capture_default_str();
+  std::map<std::string, MaterialAddress> addresses;
+  for (const auto& [name, a] : io::k_material_address_names) addresses[name] = a;
+  cmd->add_option("--address", s.address,
+                  "what the texels cover: the whole repeat (--texels per repeat side), or one "
+                  "block per distinct crossing neighbourhood, addressed per crossing (--texels "
+                  "per crossing side): its size follows the weave's variety, not its repeat")
+      ->transform(CLI::CheckedTransformer(addresses))
+      ->default_str(io::enum_name(io::k_material_address_names, s.address));
+  cmd->add_option("--context", s.context,
+                  "--address crossings: crossings either side of a block's that its light "
+                  "fields span")
+      ->check(CLI::Range(k_min_material_context, k_max_material_context))
       ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", s.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")

@@ -42,6 +42,11 @@ inline constexpr std::array<std::pair<const char*, MaterialParts>, 2> k_material
     {"rgb", MaterialParts::Rgb},
     {"specular-warp-weft", MaterialParts::SpecularWarpWeft},
 }};
+/// A material's texels: over the whole repeat, or one block per crossing class.
+inline constexpr std::array<std::pair<const char*, MaterialAddress>, 2> k_material_address_names{{
+    {"repeat", MaterialAddress::Repeat},
+    {"crossings", MaterialAddress::Crossings},
+}};
 inline constexpr std::array<std::pair<const char*, DirectionMap>, 2> k_light_map_flags{{
     {"horizon", DirectionMap::HemiOctahedralHorizon},
     {"square", DirectionMap::HemiOctahedral},

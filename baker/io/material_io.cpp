@@ -24,6 +24,7 @@ using Imath::V3f;
 using nlohmann::json;
 
 constexpr const char* k_light_file = "light_factors.exr";
+constexpr const char* k_crossings_file = "crossings.exr";
 
 std::string level_file(int m) { return "level_" + std::to_string(m) + ".exr"; }
 
@@ -83,7 +84,9 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   const MaterialOptics& o = m.optics;
   json j;
   j["format"] = k_material_format_name;
-  j["version"] = k_material_format_version;
+  // Version 3 only where its layout differs: a version-2 reader still reads
+  // every material addressed over the whole repeat.
+  j["version"] = m.addressed() ? k_material_format_version : 2;
   j["parts"] = enum_name(k_material_parts_names, s.parts);
   j["cloth"] = {{"name", info.cloth_name}, {"hash", hex16(m.cloth_hash)}, {"source", info.source}};
   if (m.colour_parts()) {
@@ -96,6 +99,14 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["repeat_mm"] = {m.repeat_mm.x, m.repeat_mm.y, m.repeat_mm.z};
   j["texels"] = s.texels;
   j["levels"] = m.levels();
+  if (m.addressed()) {
+    j["address"] = enum_name(k_material_address_names, s.address);
+    j["crossings"] = {{"ends", m.crossings.ends},
+                      {"picks", m.crossings.picks},
+                      {"blocks", m.crossings.count()},
+                      {"context", s.context},
+                      {"file", k_crossings_file}};
+  }
   j["directions"] = s.directions;
   j["light_directions"] = s.light_directions;
   j["direction_map"] = "hemi-octahedral";
@@ -148,7 +159,7 @@ std::vector<Imath::half> level_pixels(const ClothMaterial& m, int l) {
   const size_t texels = layout.level_texels(l);
   std::vector<Imath::half> pixels(size_t(layout.atlas_width(l)) * layout.atlas_height(l) * nc);
   for (int v = 0; v < m.view_count(); ++v)
-    for (int y = 0; y < side; ++y)
+    for (int y = 0; y < layout.level_rows(l); ++y)
       for (int x = 0; x < side; ++x) {
         const size_t t = size_t(y) * side + x;
         Imath::half* out = &pixels[layout.atlas_pixel(v, x, y, l) * nc];
@@ -215,6 +226,15 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   }
   s.parts = MaterialParts::Rgb;  // version 1
   read_enum(top, "parts", k_material_parts_names, s.parts);
+  s.address = MaterialAddress::Repeat;  // versions 1 and 2
+  read_enum(top, "address", k_material_address_names, s.address);
+  if (s.address == MaterialAddress::Crossings) {
+    if (s.parts != MaterialParts::SpecularWarpWeft)
+      top.fail("address", "\"crossings\" needs colour-free parts (\"parts\": "
+                          "\"specular-warp-weft\")");
+    if (!top.has("crossings")) top.fail("crossings", "is missing (the material is addressed per crossing)");
+    top.object("crossings").read("context", s.context);
+  }
   try {
     check_material_settings(s);
   } catch (const InputError& e) {
@@ -306,6 +326,33 @@ void read_shard(const JsonObject& top, SharedParts parts, ClothMaterial& m) {
                    "'clothbake merge PART... -o DIR' first");
 }
 
+/// Addressed per crossing: the classes set_cloth found from the cloth spec,
+/// checked against the manifest's counts and the stored index (a reader
+/// that finds other classes than the writer must not read the blocks).
+void read_crossings(const std::string& dir, const JsonObject& c, const ClothMaterial& m) {
+  int ends = 0, picks = 0, blocks = 0;
+  c.read("ends", ends);
+  c.read("picks", picks);
+  c.read("blocks", blocks);
+  if (ends != m.crossings.ends || picks != m.crossings.picks)
+    c.fail(c.field("ends"), "the cloth spec has " + std::to_string(m.crossings.ends) + " x " +
+                                std::to_string(m.crossings.picks) + " crossings, not " +
+                                std::to_string(ends) + " x " + std::to_string(picks));
+  if (blocks != m.crossings.count())
+    c.fail(c.field("blocks"), "the cloth spec's crossings fall in " +
+                                  std::to_string(m.crossings.count()) + " classes, not " +
+                                  std::to_string(blocks));
+  const std::string path = (fs::path(dir) / k_crossings_file).string();
+  const std::vector<float> index = read_data_image_float(path, expect(ends, picks, {"block"}));
+  for (size_t i = 0; i < index.size(); ++i)
+    if (index[i] != float(m.crossings.class_of[i]))
+      throw InputError("block", "crossing (end " + std::to_string(i % size_t(ends)) + ", pick " +
+                                    std::to_string(i / size_t(ends)) + ") holds block " +
+                                    std::to_string(index[i]) + "; the cloth spec gives " +
+                                    std::to_string(m.crossings.class_of[i]),
+                       path);
+}
+
 /// The level atlases and the light factors, into the allocated table.
 void read_images(const std::string& dir, ClothMaterial& m) {
   const MaterialLayout layout = m.layout();
@@ -318,7 +365,7 @@ void read_images(const std::string& dir, ClothMaterial& m) {
                              expect(layout.atlas_width(l), layout.atlas_height(l), channels));
     const size_t texels = layout.level_texels(l);
     for (int v = 0; v < m.view_count(); ++v)
-      for (int y = 0; y < side; ++y)
+      for (int y = 0; y < layout.level_rows(l); ++y)
         for (int x = 0; x < side; ++x) {
           const size_t t = size_t(y) * side + x;
           const Imath::half* in = &pixels[layout.atlas_pixel(v, x, y, l) * nc];
@@ -370,6 +417,11 @@ void write_material(const std::string& dir, const ClothMaterial& m, const Materi
                        layout.atlas_height(l), channels, level_pixels(m, l).data());
     write_data_image((temp_dir / k_light_file).string(), m.light_count(), m.view_count(),
                      light_channels(m.max_rank), light_pixels(m).data());
+    if (m.addressed()) {
+      std::vector<float> blocks(m.crossings.class_of.begin(), m.crossings.class_of.end());
+      write_data_image((temp_dir / k_crossings_file).string(), m.crossings.ends,
+                       m.crossings.picks, {"block"}, blocks.data());
+    }
     write_json_file((temp_dir / k_folder_manifest_name).string(), manifest_json(m, info));
   });
 }
@@ -398,18 +450,6 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
   m.view_grid.k = m.settings.directions;
   m.light_grid.k = m.settings.light_directions;
   m.light_grid.map = m.settings.light_map;
-  read_table_shape(top, memory_budget, m);
-  top.read("parallax_depth_mm", m.parallax_depth_mm);
-  if (!(m.parallax_depth_mm >= 0.0f && m.parallax_depth_mm <= m.repeat_mm.z))
-    top.fail("parallax_depth_mm", "must be in [0, the cloth's thickness " +
-                                      std::to_string(m.repeat_mm.z) + " mm]");
-  read_shard(top, parts, m);
-  if (top.has("bake")) {
-    const JsonObject bake = top.object("bake");
-    bake.read("rays", info.stats.rays);
-    bake.read("march_samples", info.stats.march_samples);
-    bake.read("fiber_evaluations", info.stats.fiber_evaluations);
-  }
   if (m.colour_parts()) {
     for (const char* key : {"spec", "colors"})
       if (!cloth.has(key)) cloth.fail(cloth.field(key), "is missing (the parts are colour-free)");
@@ -430,6 +470,19 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
     if (!(std::fabs(thread_repeat_mm(spec, true) / m.repeat_mm.x - 1.0f) < 1e-4f) ||
         !(std::fabs(thread_repeat_mm(spec, false) / m.repeat_mm.y - 1.0f) < 1e-4f))
       cloth.fail(cloth.field("spec"), "gives a repeat other than repeat_mm's");
+  }
+  if (m.addressed()) read_crossings(dir, top.object("crossings"), m);
+  read_table_shape(top, memory_budget, m);
+  top.read("parallax_depth_mm", m.parallax_depth_mm);
+  if (!(m.parallax_depth_mm >= 0.0f && m.parallax_depth_mm <= m.repeat_mm.z))
+    top.fail("parallax_depth_mm", "must be in [0, the cloth's thickness " +
+                                      std::to_string(m.repeat_mm.z) + " mm]");
+  read_shard(top, parts, m);
+  if (top.has("bake")) {
+    const JsonObject bake = top.object("bake");
+    bake.read("rays", info.stats.rays);
+    bake.read("march_samples", info.stats.march_samples);
+    bake.read("fiber_evaluations", info.stats.fiber_evaluations);
   }
   read_images(dir, m);
   return m;

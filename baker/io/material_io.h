@@ -14,7 +14,9 @@
 namespace clothbake::io {
 
 inline constexpr const char* k_material_format_name = "clothbake-material";
-inline constexpr int k_material_format_version = 2;
+/// 3: addressed per crossing (written only for such a material; the others
+/// are written as 2).
+inline constexpr int k_material_format_version = 3;
 
 /// What a material folder records besides the table.
 struct MaterialInfo {

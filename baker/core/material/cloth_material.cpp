@@ -29,7 +29,7 @@ void ClothMaterial::allocate() {
   alpha.assign(size_t(n_levels), {});
   const size_t views = size_t(view_count());
   for (int m = 0; m < n_levels; ++m) {
-    const size_t texels = size_t(level_side(m)) * level_side(m);
+    const size_t texels = layout().level_texels(m);
     coefficients[m].assign(views * texels * size_t(max_rank), V3f(0.0f));
     if (colour_parts()) coefficients_next[m].assign(views * texels * size_t(max_rank), Imath::V2f(0.0f));
     alpha[m].assign(views * texels, 0.0f);
@@ -42,11 +42,12 @@ void ClothMaterial::allocate() {
 void ClothMaterial::build_mips() {
   const size_t views = size_t(view_count());
   const size_t r = size_t(max_rank);
+  const MaterialLayout lay = layout();
   for (int m = 1; m < levels(); ++m) {
-    const int side = level_side(m), fine = level_side(m - 1);
-    const size_t n_fine = size_t(fine) * fine, n = size_t(side) * side;
+    const int side = lay.level_side(m), fine = lay.level_side(m - 1);
+    const size_t n_fine = lay.level_texels(m - 1), n = lay.level_texels(m);
     for (size_t v = 0; v < views; ++v)
-      for (int y = 0; y < side; ++y)
+      for (int y = 0; y < lay.level_rows(m); ++y)
         for (int x = 0; x < side; ++x) {
           const size_t t = size_t(y) * side + x;
           const size_t f[4] = {size_t(2 * y) * fine + 2 * x, size_t(2 * y) * fine + 2 * x + 1,
@@ -75,6 +76,7 @@ void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
   const WeaveDraft draft = draft_of(spec);
   warp_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, true));
   weft_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, false));
+  crossings = addressed() ? crossing_classes(spec) : CrossingClasses{};
 }
 
 YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {
@@ -92,7 +94,8 @@ V3f ClothMaterial::texture_from_material(const V3f& d) const {
 V3f ClothMaterial::texel_radiance(int level, int view, int node, int x, int y) const {
   const size_t side = size_t(level_side(level));
   const size_t r = size_t(max_rank);
-  const V3f* c = coefficients[level].data() + ((size_t(view) * side * side) + size_t(y) * side + x) * r;
+  const V3f* c = coefficients[level].data() +
+                 ((size_t(view) * layout().level_texels(level)) + size_t(y) * side + x) * r;
   const float* f = light_factors.data() + (size_t(view) * light_count() + node) * r;
   V3f sum(0.0f);
   for (int k = 0; k < rank[view]; ++k) sum += c[k] * f[k];
@@ -101,7 +104,7 @@ V3f ClothMaterial::texel_radiance(int level, int view, int node, int x, int y) c
 
 float ClothMaterial::texel_alpha(int level, int view, int x, int y) const {
   const size_t side = size_t(level_side(level));
-  return alpha[level][size_t(view) * side * side + size_t(y) * side + x];
+  return alpha[level][size_t(view) * layout().level_texels(level) + size_t(y) * side + x];
 }
 
 ClothMaterial::LightNodes ClothMaterial::light_nodes(const Light& light) const {
@@ -131,6 +134,86 @@ ClothMaterial::LightNodes ClothMaterial::light_nodes(const Light& light) const {
       ln.w[b * 4 + a] = wx[a] * wy[b];
     }
   return ln;
+}
+
+// Whole repeat: texel taps counted over the colours' repeat (q repeats; q =
+// 1 for RGB), the material's texel the tap's modulo its side; a tap's
+// column and row index the level's colour strips.
+ClothMaterial::Taps ClothMaterial::repeat_taps(float x_mm, float y_mm, int m, int v,
+                                               const YarnColours* yarn) const {
+  const bool parts = colour_parts();
+  const int side = level_side(m);
+  const int cols = parts ? int(yarn->warp.levels[size_t(m)].size()) : side;
+  const int rows = parts ? int(yarn->weft.levels[size_t(m)].size()) : side;
+  int ca, ra;
+  float fx, fy;
+  wrap_floor(x_mm / repeat_mm.x * float(side) - 0.5f, cols, 1.0f / float(cols), ca, fx);
+  wrap_floor(y_mm / repeat_mm.y * float(side) - 0.5f, rows, 1.0f / float(rows), ra, fy);
+  const int cb = ca + 1 == cols ? 0 : ca + 1, rb = ra + 1 == rows ? 0 : ra + 1;
+  const int xa = ca % side, xb = cb % side, ya = ra % side, yb = rb % side;
+  const size_t base = size_t(v) * size_t(side) * side;
+  Taps t;
+  t.texel[0] = base + size_t(ya) * side + xa, t.texel[1] = base + size_t(ya) * side + xb;
+  t.texel[2] = base + size_t(yb) * side + xa, t.texel[3] = base + size_t(yb) * side + xb;
+  t.w[0] = (1 - fx) * (1 - fy), t.w[1] = fx * (1 - fy), t.w[2] = (1 - fx) * fy, t.w[3] = fx * fy;
+  t.column[0] = ca, t.column[1] = cb, t.row[0] = ra, t.row[1] = rb;
+  return t;
+}
+
+namespace {
+/// Where `coord_mm` lies among a family's threads: the owning thread
+/// (unwrapped index) and the fraction of the way across the span it owns
+/// (between the midpoints to its neighbours' centres).
+void locate_in_span(const ThreadLayout& threads, float coord_mm, int& owner, float& fraction) {
+  float t, gap;
+  const int i = threads.locate(coord_mm, t, gap);
+  owner = t < 0.5f ? i : i + 1;
+  const float left = 0.5f * (threads.centre_mm(owner - 1) + threads.centre_mm(owner));
+  const float right = 0.5f * (threads.centre_mm(owner) + threads.centre_mm(owner + 1));
+  fraction = std::clamp((coord_mm - left) / std::max(right - left, 1e-12f), 0.0f, 0.999999f);
+}
+
+/// A tap of a level with `side` texels per crossing: the crossing (counted
+/// over `threads` threads, wrapped) and the texel inside it.
+void split_tap(int tap, int side, int threads, int& crossing, int& local) {
+  const int c = tap >= 0 ? tap / side : -((-tap + side - 1) / side);
+  local = tap - c * side;
+  crossing = ((c % threads) + threads) % threads;
+}
+}  // namespace
+
+// Per crossing: each crossing spans `side` texels of level m whatever its
+// width, so bilinear taps are counted in crossings and texels, and each tap
+// reads the block of its own crossing's class. Crossings are counted over
+// the colours' repeat (a per-thread colour sequence longer than the weave's)
+// so that a tap's column and row index the per-thread colours.
+ClothMaterial::Taps ClothMaterial::crossing_taps(float x_mm, float y_mm, int m, int v,
+                                                 const YarnColours* yarn) const {
+  const int side = level_side(m);
+  const int ends = crossings.ends, picks = crossings.picks;
+  const int cols = colour_parts() && yarn ? int(yarn->warp.threads.size()) : ends;
+  const int rows = colour_parts() && yarn ? int(yarn->weft.threads.size()) : picks;
+  int e, p;
+  float fe, fp;
+  locate_in_span(*warp_threads, x_mm, e, fe);
+  locate_in_span(*weft_threads, y_mm, p, fp);
+  const float gx = (float(e) + fe) * float(side) - 0.5f, gy = (float(p) + fp) * float(side) - 0.5f;
+  const int tx = int(std::floor(gx)), ty = int(std::floor(gy));
+  const float fx = gx - float(tx), fy = gy - float(ty);
+  Taps t;
+  int lx[2], ly[2];
+  for (int a = 0; a < 2; ++a) {
+    split_tap(tx + a, side, cols, t.column[a], lx[a]);
+    split_tap(ty + a, side, rows, t.row[a], ly[a]);
+  }
+  const size_t per_view = layout().level_texels(m);
+  for (int b = 0; b < 2; ++b)
+    for (int a = 0; a < 2; ++a) {
+      const int block = crossings.at(t.column[a] % ends, t.row[b] % picks);
+      t.texel[b * 2 + a] = size_t(v) * per_view + (size_t(block) * side + size_t(ly[b])) * side + size_t(lx[a]);
+    }
+  t.w[0] = (1 - fx) * (1 - fy), t.w[1] = fx * (1 - fy), t.w[2] = (1 - fx) * fy, t.w[3] = fx * fy;
+  return t;
 }
 
 // The lookup's three interpolations: light nodes folded into per-component
@@ -201,21 +284,10 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
       const int m = mi == 0 ? m0 : m1;
       const float wm = mi == 0 ? 1.0f - fm : fm;
       if (wm == 0.0f) continue;
-      const int side = level_side(m);
-      // Texel taps counted over the colours' repeat (q repeats; q = 1 for
-      // RGB), the material's texel the tap's modulo its side.
-      const int cols = parts ? int(yarn->warp.levels[size_t(m)].size()) : side;
-      const int rows = parts ? int(yarn->weft.levels[size_t(m)].size()) : side;
-      int ca, ra;
-      float fx, fy;
-      wrap_floor((x_mm + shift.x) / repeat_mm.x * float(side) - 0.5f, cols, 1.0f / float(cols), ca, fx);
-      wrap_floor((y_mm + shift.y) / repeat_mm.y * float(side) - 0.5f, rows, 1.0f / float(rows), ra, fy);
-      const int cb = ca + 1 == cols ? 0 : ca + 1, rb = ra + 1 == rows ? 0 : ra + 1;
-      const int xa = ca % side, xb = cb % side, ya = ra % side, yb = rb % side;
-      const size_t base = size_t(v) * size_t(side) * side;
-      const size_t texel[4] = {base + size_t(ya) * side + xa, base + size_t(ya) * side + xb,
-                               base + size_t(yb) * side + xa, base + size_t(yb) * side + xb};
-      const float wt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+      const Taps taps = addressed() ? crossing_taps(x_mm + shift.x, y_mm + shift.y, m, v, yarn)
+                                    : repeat_taps(x_mm + shift.x, y_mm + shift.y, m, v, yarn);
+      const size_t* texel = taps.texel;
+      const float* wt = taps.w;
       const float w = wv[c] * wm;
       for (int t = 0; t < 4; ++t) {
         if (wt[t] == 0.0f) continue;
@@ -232,9 +304,21 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
             wn += weights[k] * next[k].x;
             fn += weights[k] * next[k].y;
           }
-          const size_t col = size_t(t & 1 ? cb : ca), row = size_t(t & 2 ? rb : ra);
-          sum = s + wp * yarn->warp.levels[size_t(m)][col] + fp * yarn->weft.levels[size_t(m)][row] +
-                wn * (*warp_next)[size_t(m)][col] + fn * (*weft_next)[size_t(m)][row];
+          const int col = taps.column[t & 1], row = taps.row[t >> 1];
+          if (addressed()) {
+            // A block's texel lies in one crossing: its end's and pick's
+            // colours, and those of the threads its view ray runs toward.
+            const std::vector<V3f>& wc = yarn->warp.threads;
+            const std::vector<V3f>& fc = yarn->weft.threads;
+            const int nw = int(wc.size()), nf = int(fc.size());
+            const int wnext = ray.x >= 0.0f ? 1 : -1, fnext = ray.y >= 0.0f ? 1 : -1;
+            sum = s + wp * wc[size_t(col)] + fp * fc[size_t(row)] +
+                  wn * wc[size_t((col + wnext + nw) % nw)] + fn * fc[size_t((row + fnext + nf) % nf)];
+          } else {
+            sum = s + wp * yarn->warp.levels[size_t(m)][size_t(col)] +
+                  fp * yarn->weft.levels[size_t(m)][size_t(row)] +
+                  wn * (*warp_next)[size_t(m)][size_t(col)] + fn * (*weft_next)[size_t(m)][size_t(row)];
+          }
         } else {
           for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
         }

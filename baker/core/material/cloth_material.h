@@ -31,6 +31,7 @@
 #include "core/material/material_settings.h"
 #include "core/material/yarn_colours.h"
 #include "core/weave/cloth_spec.h"
+#include "core/weave/crossing_neighbourhoods.h"
 #include "core/weave/thread_layout.h"
 
 namespace clothbake {
@@ -59,6 +60,9 @@ class ClothMaterial {
   /// weave's). 1 x 1 for RGB parts.
   Imath::V2f written_repeats{1.0f, 1.0f};
   std::shared_ptr<const ThreadLayout> warp_threads, weft_threads;  ///< of `cloth`
+  /// Addressed per crossing (settings.address): every crossing of `cloth`'s
+  /// repeat and its class, the block that holds its texels (set_cloth).
+  CrossingClasses crossings;
   DirectionGrid view_grid, light_grid;
   /// A part of a sharded bake holds only its view nodes (material_shard.h);
   /// the others have rank 0 and zero tables until the parts are merged.
@@ -82,7 +86,8 @@ class ClothMaterial {
   std::vector<float> light_factors;
 
   /// The table's shape (material_layout.h), from the settings' R, K and KL.
-  MaterialLayout layout() const { return MaterialLayout::of(settings); }
+  MaterialLayout layout() const { return MaterialLayout::of(settings, crossings.count()); }
+  bool addressed() const { return settings.address == MaterialAddress::Crossings; }
   int texels() const { return settings.texels; }
   int levels() const { return int(coefficients.size()); }
   int level_side(int level) const { return layout().level_side(level); }
@@ -90,7 +95,8 @@ class ClothMaterial {
   int light_count() const { return layout().light_count(); }
   /// Allocates the level arrays for the settings' R, K, KL and max_rank.
   void allocate();
-  /// Recomputes levels 1.. from level 0 by 2 x 2 box averages.
+  /// Recomputes levels 1.. from level 0 by 2 x 2 box averages (inside each
+  /// block when addressed).
   void build_mips();
   bool colour_parts() const { return settings.parts == MaterialParts::SpecularWarpWeft; }
   /// Sets the colour-free cloth and the colours shade() uses by default.
@@ -133,6 +139,17 @@ class ClothMaterial {
     Imath::V3f irradiance;
   };
   LightNodes light_nodes(const Light& light) const;
+
+  /// A lookup's four bilinear texel taps at one level and view node: each
+  /// tap's index into the level's arrays, its weight, and the column and row
+  /// the colours are read at (t = 0..3: column t & 1, row t >> 1).
+  struct Taps {
+    size_t texel[4];
+    float w[4];
+    int column[2], row[2];
+  };
+  Taps repeat_taps(float x_mm, float y_mm, int level, int view, const YarnColours* yarn) const;
+  Taps crossing_taps(float x_mm, float y_mm, int level, int view, const YarnColours* yarn) const;
 
   /// The stored radiance of texel (x, y) of `level` for view node `view` and
   /// light node `node` (what the factorisation reconstructs), and its alpha.

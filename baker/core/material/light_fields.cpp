@@ -60,7 +60,43 @@ LightFieldSet LightFieldSet::build(const VolumeTexture& volume, std::span<const 
   return set;
 }
 
-void LightFieldSet::depths(const V3f& p, float* depth) const {
+size_t LightFieldSet::bytes_for_window(const VolumeTexture& volume, int cells_x, int cells_y,
+                                       int lights, int s) {
+  return size_t(std::min(cells_x, volume.nx())) * s * size_t(std::min(cells_y, volume.ny())) * s *
+         (size_t(volume.nz()) * s + 2) * size_t(lights) * sizeof(float);
+}
+
+LightFieldSet LightFieldSet::build_window(const VolumeTexture& volume, int x0, int y0, int cells_x,
+                                          int cells_y, std::span<const V3f> to_light, float sigma,
+                                          int supersample) {
+  if (cells_x >= volume.nx() && cells_y >= volume.ny())
+    return build(volume, to_light, sigma, supersample);
+  // An axis the window spans whole stays the volume's own, from cell 0.
+  if (cells_x >= volume.nx()) x0 = 0, cells_x = volume.nx();
+  if (cells_y >= volume.ny()) y0 = 0, cells_y = volume.ny();
+  const V3f cell = volume.cell_size_mm();
+  VolumeTexture window(cells_x, cells_y, volume.nz(),
+                       V3f(float(cells_x) * cell.x, float(cells_y) * cell.y, volume.size_mm().z));
+  for (int k = 0; k < volume.nz(); ++k)
+    for (int j = 0; j < cells_y; ++j)
+      for (int i = 0; i < cells_x; ++i) window.at(i, j, k) = volume.at(x0 + i, y0 + j, k);
+  LightFieldSet set = build(window, to_light, sigma, supersample);
+  set.m_origin = Imath::V2f(float(x0) * cell.x, float(y0) * cell.y);
+  set.m_window = Imath::V2f(window.size_mm().x, window.size_mm().y);
+  set.m_repeat = Imath::V2f(volume.size_mm().x, volume.size_mm().y);
+  return set;
+}
+
+void LightFieldSet::depths(const V3f& p_volume, float* depth) const {
+  V3f p = p_volume;
+  if (m_repeat.x > 0.0f) {
+    // Into the window's frame, from the repeat's copy nearest its centre.
+    for (int a = 0; a < 2; ++a) {
+      float d = p[a] - m_origin[a];
+      d -= m_repeat[a] * std::round((d - 0.5f * m_window[a]) / m_repeat[a]);
+      p[a] = d;
+    }
+  }
   int xa, ya;
   float fx, fy;
   wrap_floor(p.x / m_spacing.x - 0.5f, m_nx, 1.0f / float(m_nx), xa, fx);

@@ -31,6 +31,19 @@ class LightFieldSet {
                              std::span<const Imath::V3f> to_light_texture, float extinction_per_mm,
                              int supersample);
 
+  /// The fields of a window of `volume`'s cells only: `cells_x` x `cells_y`
+  /// columns from cell (x0, y0) on (indices wrap), built as if the window
+  /// were the repeat (a ray that leaves it comes back in at the other side).
+  /// A material addressed per crossing builds one per block around its
+  /// crossing; a point is read in the window's copy nearest the window's
+  /// centre, so that the march may run in the whole repeat's coordinates.
+  /// A window as wide as the volume is the whole field exactly.
+  static LightFieldSet build_window(const VolumeTexture& volume, int x0, int y0, int cells_x,
+                                    int cells_y, std::span<const Imath::V3f> to_light_texture,
+                                    float extinction_per_mm, int supersample);
+  static size_t bytes_for_window(const VolumeTexture& volume, int cells_x, int cells_y, int lights,
+                                 int supersample);
+
   int light_count() const { return m_lights; }
   /// Optical depth toward every light at p_texture: depth[l], l < light_count().
   void depths(const Imath::V3f& p_texture, float* depth) const;
@@ -45,6 +58,9 @@ class LightFieldSet {
   int m_lights = 0;
   Imath::V3f m_spacing{1, 1, 1};  // between field points, mm
   float m_thickness = 0.0f;
+  // A window's: its corner and extent in the volume's texture mm, and the
+  // volume's repeat (0: the field is the whole repeat's).
+  Imath::V2f m_origin{0.0f, 0.0f}, m_window{0.0f, 0.0f}, m_repeat{0.0f, 0.0f};
   std::vector<float> m_tau;  // [((kz * ny + j) * nx + i) * lights + l], kz = 0: bottom face
 };
 

@@ -89,6 +89,7 @@ void check_material_settings(const MaterialSettings& s) {
   range("light_directions", s.light_directions, k_min_material_directions,
         k_max_material_directions);
   range("spp", s.spp, k_min_material_spp, k_max_material_spp);
+  range("context", s.context, k_min_material_context, k_max_material_context);
   range("field_supersample", s.field_supersample, k_min_field_supersample,
         k_max_field_supersample);
   if (s.fiber_tangent_nodes != 0)
@@ -126,11 +127,28 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
                                std::span<const V3f> light_local, int view, int x, int y, int k) {
   const MaterialSettings& s = material.settings;
   const MaterialOptics& o = material.optics;
-  Rng rng(hash_key(s.seed, rng_stream::material, uint64_t(view), uint64_t(x), uint64_t(y),
-                   uint64_t(k)));
+  // Addressed per crossing, row y of level 0 lies in block y / R, at its
+  // representative crossing; its samples are seeded as the texel a whole
+  // repeat of R texels per thread would hold there, so that where every
+  // crossing is its own class the two bakes march the same samples.
+  const CrossingClasses::Crossing c = material.addressed()
+                                          ? material.crossings.representative[size_t(y / s.texels)]
+                                          : CrossingClasses::Crossing{};
+  const uint64_t seed_x = material.addressed() ? uint64_t(c.end) * s.texels + x : uint64_t(x);
+  const uint64_t seed_y =
+      material.addressed() ? uint64_t(c.pick) * s.texels + uint64_t(y % s.texels) : uint64_t(y);
+  Rng rng(hash_key(s.seed, rng_stream::material, uint64_t(view), seed_x, seed_y, uint64_t(k)));
   const V3f size = volume.size_mm();
-  const float px = (float(x) + rng.next_float()) / float(s.texels) * size.x;
-  const float py = (float(y) + rng.next_float()) / float(s.texels) * size.y;
+  float px, py;
+  if (material.addressed()) {
+    const ThreadSpan sx = thread_span(*material.warp_threads, c.end);
+    const ThreadSpan sy = thread_span(*material.weft_threads, c.pick);
+    px = sx.left_mm + (float(x) + rng.next_float()) / float(s.texels) * sx.width_mm();
+    py = sy.left_mm + (float(y % s.texels) + rng.next_float()) / float(s.texels) * sy.width_mm();
+  } else {
+    px = (float(x) + rng.next_float()) / float(s.texels) * size.x;
+    py = (float(y) + rng.next_float()) / float(s.texels) * size.y;
+  }
   const V3f to_eye = material.view_grid.bake_direction(view);
   NodeMarchInput in;
   in.volume = &volume;
@@ -164,11 +182,52 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
   return in;
 }
 
-uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& s,
+ThreadSpan thread_span(const ThreadLayout& threads, int i) {
+  return ThreadSpan{0.5f * (threads.centre_mm(i - 1) + threads.centre_mm(i)),
+                    0.5f * (threads.centre_mm(i) + threads.centre_mm(i + 1))};
+}
+
+std::vector<BlockWindow> block_windows(const ClothMaterial& material, const VolumeTexture& volume) {
+  std::vector<BlockWindow> out;
+  if (!material.addressed()) return out;
+  const V3f cell = volume.cell_size_mm();
+  const int w = material.settings.context;
+  for (const CrossingClasses::Crossing& c : material.crossings.representative) {
+    const float x0 = thread_span(*material.warp_threads, c.end - w).left_mm;
+    const float x1 = thread_span(*material.warp_threads, c.end + w).right_mm;
+    const float y0 = thread_span(*material.weft_threads, c.pick - w).left_mm;
+    const float y1 = thread_span(*material.weft_threads, c.pick + w).right_mm;
+    BlockWindow b;
+    b.x0 = int(std::floor(x0 / cell.x));
+    b.y0 = int(std::floor(y0 / cell.y));
+    b.cells_x = std::min(volume.nx(), int(std::ceil(x1 / cell.x)) - b.x0);
+    b.cells_y = std::min(volume.ny(), int(std::ceil(y1 / cell.y)) - b.y0);
+    out.push_back(b);
+  }
+  return out;
+}
+
+uint64_t material_bake_fixed_bytes(const ClothMaterial& material, const VolumeTexture& volume,
                                    int threads) {
-  const MaterialLayout layout = MaterialLayout::of(s);
-  return LightFieldSet::bytes_for(volume, layout.light_count(), s.field_supersample) +
-         uint64_t(std::max(threads, 1)) * layout.view_matrix_bytes();
+  const MaterialLayout layout = material.layout();
+  const MaterialSettings& s = material.settings;
+  uint64_t fields = 0;
+  if (material.addressed()) {
+    // One window's fields at a time; every view node's matrix (level 0 by
+    // the light nodes) and fibre table held across the blocks.
+    for (const BlockWindow& b : block_windows(material, volume))
+      fields = std::max<uint64_t>(
+          fields, LightFieldSet::bytes_for_window(volume, b.cells_x, b.cells_y,
+                                                  layout.light_count(), s.field_supersample));
+    const uint64_t k = tabulates_fiber(s, material.optics) ? uint64_t(s.fiber_tangent_nodes) : 0;
+    return fields + uint64_t(layout.view_count()) *
+                        (layout.level_texels(0) * (uint64_t(layout.channels) * layout.light_count() + 1) +
+                         k * k * layout.light_count() * 2) *
+                        sizeof(float);
+  } else {
+    fields = LightFieldSet::bytes_for(volume, layout.light_count(), s.field_supersample);
+  }
+  return fields + uint64_t(std::max(threads, 1)) * layout.view_matrix_bytes();
 }
 
 namespace {
@@ -180,31 +239,25 @@ struct ViewLocal {
   std::vector<V3f> radiance, radiance_next;
 };
 
-/// Step 2 for one view node: every texel's spp jittered samples marched for
-/// all light nodes, averaged into the texels x RGB by light-node matrix
-/// (returned) and each texel's alpha (into `f`).
-Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTexture& volume,
-                                const FiberShader& shader, const LightFieldSet& fields,
-                                std::span<const V3f> light_local, int view, ViewLocal& local,
-                                ViewFactors& f) {
+/// Step 2 for one view node, rows [y0, y1) of level 0: every texel's spp
+/// jittered samples marched for all light nodes under `fields`, averaged
+/// into the texels x channels by light-node matrix `m` (its rows from
+/// texel y0 R on) and each texel's alpha (into `alpha`, indexed from 0).
+/// `table`: the view node's fibre table, or null.
+void march_view_rows(const ClothMaterial& material, const VolumeTexture& volume,
+                     const FiberShader& shader, const LightFieldSet& fields,
+                     std::span<const V3f> light_local, int view, int y0, int y1,
+                     const FiberLightTable* table, ViewLocal& local, Eigen::MatrixXf& m,
+                     std::vector<float>& alpha) {
   const MaterialSettings& settings = material.settings;
   const int R = settings.texels, n_lights = int(light_local.size());
   local.scratch.view_tag = uint32_t(view) + 1;
-  const bool tabulate = tabulates_fiber(settings, material.optics);
-  if (tabulate) {
-    local.fiber_table.build(shader, light_local, material.view_grid.bake_direction(view),
-                            settings.fiber_tangent_nodes);
-    local.counts.fiber_evaluations += uint64_t(settings.fiber_tangent_nodes) *
-                                      uint64_t(settings.fiber_tangent_nodes) * uint64_t(n_lights);
-  }
   const int ch = material.layout().channels;
   const bool parts = material.colour_parts();
-  Eigen::MatrixXf m(Eigen::Index(R) * R * ch, n_lights);
-  f.alpha.assign(size_t(R) * R, 0.0f);
   local.radiance.resize(size_t(n_lights));
   local.radiance_next.resize(size_t(n_lights));
   const float inv_spp = 1.0f / float(settings.spp);
-  for (int y = 0; y < R; ++y)
+  for (int y = y0; y < y1; ++y)
     for (int x = 0; x < R; ++x) {
       std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
       std::fill(local.radiance_next.begin(), local.radiance_next.end(), V3f(0.0f));
@@ -212,7 +265,7 @@ Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTextu
       for (int k = 0; k < settings.spp; ++k) {
         NodeMarchInput in =
             material_sample(material, volume, shader, fields, light_local, view, x, y, k);
-        if (tabulate) in.fiber_table = &local.fiber_table;
+        in.fiber_table = table;
         see_through += in.length_mm > 0.0f
                            ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
                                                        local.counts, local.radiance_next.data())
@@ -230,8 +283,32 @@ Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTextu
         m(row, n) = r.x + rn.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
         m(row + 3, n) = rn.y, m(row + 4, n) = rn.z;
       }
-      f.alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
+      alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
     }
+}
+
+/// The view node's fibre table (tabulates_fiber), counted.
+void build_fiber_table(const ClothMaterial& material, const FiberShader& shader,
+                       std::span<const V3f> light_local, int view, FiberLightTable& table,
+                       NodeMarchCounts& counts) {
+  const int k = material.settings.fiber_tangent_nodes;
+  table.build(shader, light_local, material.view_grid.bake_direction(view), k);
+  counts.fiber_evaluations += uint64_t(k) * uint64_t(k) * uint64_t(light_local.size());
+}
+
+/// Step 2 for one view node over the whole repeat: the matrix (returned)
+/// and the alpha (into `f`).
+Eigen::MatrixXf march_view_node(const ClothMaterial& material, const VolumeTexture& volume,
+                                const FiberShader& shader, const LightFieldSet& fields,
+                                std::span<const V3f> light_local, int view, ViewLocal& local,
+                                ViewFactors& f) {
+  const int R = material.settings.texels;
+  const bool tabulate = tabulates_fiber(material.settings, material.optics);
+  if (tabulate) build_fiber_table(material, shader, light_local, view, local.fiber_table, local.counts);
+  Eigen::MatrixXf m(Eigen::Index(R) * R * material.layout().channels, Eigen::Index(light_local.size()));
+  f.alpha.assign(size_t(R) * R, 0.0f);
+  march_view_rows(material, volume, shader, fields, light_local, view, 0, R,
+                  tabulate ? &local.fiber_table : nullptr, local, m, f.alpha);
   return m;
 }
 
@@ -281,6 +358,13 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   if (settings.parts == MaterialParts::SpecularWarpWeft && optics.shading != ShadingMode::Fiber)
     throw InputError("parts", "colour-free parts need fibre shading (isotropic shading has one "
                               "albedo and no yarn colours)");
+  if (settings.address == MaterialAddress::Crossings) {
+    if (settings.parts != MaterialParts::SpecularWarpWeft)
+      throw InputError("address", "a material addressed per crossing needs colour-free parts (its "
+                                  "blocks are found from the cloth's threads)");
+    if (!shard.whole())
+      throw InputError("shard", "a material addressed per crossing is baked whole");
+  }
   ClothMaterial material = unbaked_material(volume, optics, settings);
   if (material.colour_parts()) material.set_cloth(*colour_free_cloth, palette_of(*colour_free_cloth));
   const int n_lights = material.light_count();
@@ -293,41 +377,91 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   std::vector<V3f> light_texture(light_local.size());
   for (size_t n = 0; n < light_local.size(); ++n)
     light_texture[n] = material.texture_from_material(light_local[n]);
-  const uint64_t fields_bytes =
-      LightFieldSet::bytes_for(volume, n_lights, settings.field_supersample);
+  const uint64_t fields_bytes = material_bake_fixed_bytes(material, volume, 0);
   if (fields_bytes > memory_budget)
     throw InputError("memory", "the light fields need " + std::to_string(fields_bytes >> 20) +
                                    " MiB, over the budget of " +
                                    std::to_string(memory_budget >> 20) +
                                    " MiB; lower --light-directions or raise --memory");
-  const LightFieldSet fields = LightFieldSet::build(volume, light_texture,
-                                                    optics.extinction_per_mm,
-                                                    settings.field_supersample);
-
-  // Steps 2 and 3, per view node: march every texel for all light nodes,
-  // then factorise.
   std::vector<ViewFactors> factors(size_t(material.view_count()));
   tbb::enumerable_thread_specific<ViewLocal> locals;
   std::atomic<uint64_t> table_bytes{0};
   std::atomic<int> views_done{0};
   std::mutex progress_mutex;
   std::atomic<bool> over_budget{false};
-  tbb::parallel_for(0, n_views, [&](int i) {
-    if (over_budget) return;
-    const int view = views[size_t(i)];
-    ViewFactors& f = factors[size_t(view)];
-    const Eigen::MatrixXf m = march_view_node(material, volume, shader, fields, light_local, view,
-                                              locals.local(), f);
-    factorise(m, settings.max_error, material.layout().channels, f);
-    const uint64_t bytes =
-        table_bytes += (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
-    if (fields_bytes + bytes > memory_budget) over_budget = true;
-    const int done = ++views_done;
-    if (progress) {
-      std::lock_guard lock(progress_mutex);
-      progress(double(done) / double(n_views));
+  uint64_t field_bytes_built = 0;
+  if (material.addressed()) {
+    // Per crossing: block by block, its light fields over the window of
+    // `context` crossings around its representative, then every view
+    // node's rows of that block (the view nodes' matrices and fibre tables
+    // are held across the blocks; one window's fields at a time).
+    const std::vector<BlockWindow> windows = block_windows(material, volume);
+    const int R = settings.texels, rows = material.layout().level_rows(0);
+    const int ch = material.layout().channels;
+    const bool tabulate = tabulates_fiber(settings, optics);
+    std::vector<Eigen::MatrixXf> matrices(static_cast<size_t>(n_views));
+    std::vector<FiberLightTable> tables(tabulate ? size_t(n_views) : 0);
+    tbb::parallel_for(0, n_views, [&](int i) {
+      matrices[size_t(i)].resize(Eigen::Index(R) * rows * ch, n_lights);
+      factors[size_t(views[size_t(i)])].alpha.assign(size_t(R) * rows, 0.0f);
+      if (tabulate)
+        build_fiber_table(material, shader, light_local, views[size_t(i)], tables[size_t(i)],
+                          locals.local().counts);
+    });
+    const double steps = double(windows.size()) * n_views + n_views;
+    std::atomic<int> steps_done{0};
+    for (size_t b = 0; b < windows.size(); ++b) {
+      const BlockWindow& w = windows[b];
+      const LightFieldSet fields =
+          LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, light_texture,
+                                      optics.extinction_per_mm, settings.field_supersample);
+      field_bytes_built = std::max<uint64_t>(field_bytes_built, fields.bytes());
+      tbb::parallel_for(0, n_views, [&](int i) {
+        const int view = views[size_t(i)];
+        march_view_rows(material, volume, shader, fields, light_local, view, int(b) * R,
+                        int(b + 1) * R, tabulate ? &tables[size_t(i)] : nullptr, locals.local(),
+                        matrices[size_t(i)], factors[size_t(view)].alpha);
+        const int done = ++steps_done;
+        if (progress) {
+          std::lock_guard lock(progress_mutex);
+          progress(double(done) / steps);
+        }
+      });
     }
-  });
+    tables.clear();
+    tbb::parallel_for(0, n_views, [&](int i) {
+      ViewFactors& f = factors[size_t(views[size_t(i)])];
+      factorise(matrices[size_t(i)], settings.max_error, ch, f);
+      matrices[size_t(i)] = Eigen::MatrixXf();
+      const int done = ++steps_done;
+      if (progress) {
+        std::lock_guard lock(progress_mutex);
+        progress(double(done) / steps);
+      }
+    });
+  } else {
+    // Steps 2 and 3, per view node: march every texel for all light nodes,
+    // then factorise.
+    const LightFieldSet fields = LightFieldSet::build(volume, light_texture, optics.extinction_per_mm,
+                                                      settings.field_supersample);
+    field_bytes_built = fields.bytes();
+    tbb::parallel_for(0, n_views, [&](int i) {
+      if (over_budget) return;
+      const int view = views[size_t(i)];
+      ViewFactors& f = factors[size_t(view)];
+      const Eigen::MatrixXf m = march_view_node(material, volume, shader, fields, light_local,
+                                                view, locals.local(), f);
+      factorise(m, settings.max_error, material.layout().channels, f);
+      const uint64_t bytes =
+          table_bytes += (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
+      if (fields_bytes + bytes > memory_budget) over_budget = true;
+      const int done = ++views_done;
+      if (progress) {
+        std::lock_guard lock(progress_mutex);
+        progress(double(done) / double(n_views));
+      }
+    });
+  }
   if (over_budget)
     throw InputError("memory", "the factorised table grew past the budget of " +
                                    std::to_string(memory_budget >> 20) +
@@ -335,7 +469,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
                                    "raise --memory");
   assemble(factors, material);
   // A part holds a share of the view nodes: the merge fits the whole.
-  if (settings.view_parallax && shard.whole())
+  if (material.settings.view_parallax && shard.whole())
     material.parallax_depth_mm = fit_view_parallax(material).depth_mm;
   if (stats) {
     *stats = MaterialBakeStats{};
@@ -345,7 +479,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
     }
     const size_t texels = material.layout().level_texels(0);
     stats->rays = uint64_t(n_views) * texels * uint64_t(settings.spp);
-    stats->field_bytes = fields.bytes();
+    stats->field_bytes = field_bytes_built;
     stats->uncompressed_values = double(n_views) * double(texels) * n_lights * material.layout().channels;
   }
   return material;

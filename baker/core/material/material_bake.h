@@ -34,9 +34,26 @@ struct MaterialBakeStats {
   double uncompressed_values = 0;  ///< texels x views x lights x RGB at level 0, before the SVD
 };
 
+/// The span thread i owns across its family (between the midpoints to its
+/// neighbours' centres), texture mm, unwrapped like centre_mm.
+struct ThreadSpan {
+  float left_mm = 0.0f, right_mm = 0.0f;
+  float width_mm() const { return right_mm - left_mm; }
+};
+ThreadSpan thread_span(const ThreadLayout& threads, int i);
+
+/// Addressed per crossing: the cells a block's light fields span, the
+/// representative crossing and `context` crossings either side (indices
+/// may run below 0 or past the volume: they wrap).
+struct BlockWindow {
+  int x0 = 0, y0 = 0, cells_x = 0, cells_y = 0;
+};
+std::vector<BlockWindow> block_windows(const ClothMaterial& material, const VolumeTexture& volume);
+
 /// Bytes the bake holds before the factorised table grows: the light fields
-/// and one view's matrix per thread.
-uint64_t material_bake_fixed_bytes(const VolumeTexture& volume, const MaterialSettings& settings,
+/// (the blocks' windows when addressed) and one view's matrix per thread.
+/// `material`: unbaked_material with its cloth set.
+uint64_t material_bake_fixed_bytes(const ClothMaterial& material, const VolumeTexture& volume,
                                    int threads);
 
 /// Bakes the material, or part `shard` of it (its view nodes only,

@@ -20,10 +20,17 @@ struct MaterialLayout {
   /// Values per coefficient slot: RGB, or the colour-free parts (specular,
   /// own warp, own weft, next warp, next weft: docs/material-format.md).
   int channels = 3;
+  /// 0: the texels cover the whole repeat (R x R). Otherwise a material
+  /// addressed per crossing: `blocks` blocks of R x R texels, one per
+  /// crossing class, stacked in a column (block b's rows b R .. b R + R - 1),
+  /// so that a 2 x 2 box average of a level's image is the box average inside
+  /// each block and never mixes two.
+  int blocks = 0;
 
-  static MaterialLayout of(const MaterialSettings& s) {
+  static MaterialLayout of(const MaterialSettings& s, int blocks = 0) {
     return MaterialLayout{s.texels, s.directions, s.light_directions,
-                          s.parts == MaterialParts::SpecularWarpWeft ? 5 : 3};
+                          s.parts == MaterialParts::SpecularWarpWeft ? 5 : 3,
+                          s.address == MaterialAddress::Crossings ? blocks : 0};
   }
 
   /// Two hemispheres of K x K (KL x KL) nodes (direction_grid.h).
@@ -36,8 +43,11 @@ struct MaterialLayout {
     while ((texels >> (n - 1)) > 1) ++n;
     return n;
   }
+  /// A level's texels per row (per repeat, or per crossing when addressed).
   int level_side(int level) const { return std::max(1, texels >> level); }
-  size_t level_texels(int level) const { return size_t(level_side(level)) * level_side(level); }
+  /// A level's rows: its side, or its blocks' sides stacked.
+  int level_rows(int level) const { return level_side(level) * std::max(1, blocks); }
+  size_t level_texels(int level) const { return size_t(level_side(level)) * level_rows(level); }
   /// Texels of one view node over every level (about 4/3 R^2).
   uint64_t pyramid_texels() const {
     uint64_t n = 0;
@@ -45,14 +55,14 @@ struct MaterialLayout {
     return n;
   }
 
-  /// A level's atlas image: view node v's tile of side x side texels at
+  /// A level's atlas image: view node v's tile of side x rows texels at
   /// column v % K, row v / K (K tiles a row, 2 K rows).
   int atlas_width(int level) const { return directions * level_side(level); }
-  int atlas_height(int level) const { return 2 * directions * level_side(level); }
+  int atlas_height(int level) const { return 2 * directions * level_rows(level); }
   size_t atlas_pixel(int view, int x, int y, int level) const {
     const size_t side = size_t(level_side(level));
     const size_t px = size_t(view % directions) * side + size_t(x);
-    const size_t py = size_t(view / directions) * side + size_t(y);
+    const size_t py = size_t(view / directions) * size_t(level_rows(level)) + size_t(y);
     return py * size_t(directions) * side + px;
   }
 

@@ -62,11 +62,19 @@ ProbeLights probe_fields(const ClothMaterial& material, const VolumeTexture& vol
     p.local.push_back(light_local[size_t(n)]);
     p.texture.push_back(material.texture_from_material(light_local[size_t(n)]));
   }
+  // Per crossing: the first block's window, times the blocks (their windows
+  // are alike in size).
+  const std::vector<BlockWindow> windows = block_windows(material, volume);
+  const BlockWindow whole{0, 0, volume.nx(), volume.ny()};
+  const BlockWindow& w = windows.empty() ? whole : windows.front();
+  const double blocks = windows.empty() ? 1.0 : double(windows.size());
   const auto t0 = Clock::now();
-  p.fields_p = LightFieldSet::build(volume, p.texture, sigma, s.field_supersample);
-  e.fields_seconds = seconds_since(t0) * double(L) / double(P);
-  p.fields_1 = LightFieldSet::build(volume, std::span(p.texture).first(1), sigma,
-                                    s.field_supersample);
+  p.fields_p = LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, p.texture,
+                                           sigma, s.field_supersample);
+  e.fields_seconds = seconds_since(t0) * double(L) / double(P) * blocks;
+  p.fields_1 = LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y,
+                                           std::span(p.texture).first(1), sigma,
+                                           s.field_supersample);
   return p;
 }
 
@@ -96,7 +104,7 @@ void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
   const int VP = std::min(V, k_probe_view_nodes);
   e.probe_view_nodes = VP;
   const std::vector<int> views = pick_nodes(V, VP);
-  const uint64_t rays_per_view = uint64_t(R) * uint64_t(R) * uint64_t(s.spp);
+  const uint64_t rays_per_view = material.layout().level_texels(0) * uint64_t(s.spp);
   const uint64_t probe_rays = std::min<uint64_t>(rays_per_view, k_probe_rays_per_view);
   e.probe_rays = probe_rays * uint64_t(VP);
   const auto first_ray = [&](int i) {
@@ -179,12 +187,13 @@ double probe_factorise(const MaterialLayout& layout, int threads) {
 /// 256 x 256 texels at rank min(L, 8), scaled by views, texels and rank to
 /// the full-rank table (an upper bound).
 double probe_mips(const VolumeTexture& volume, const MaterialOptics& optics,
-                  const MaterialSettings& settings) {
+                  const MaterialSettings& settings, int blocks) {
   MaterialSettings small = settings;
   small.texels = std::min(settings.texels, 256);
   small.directions = 2;
+  small.address = MaterialAddress::Repeat;
   ClothMaterial mips = unbaked_material(volume, optics, small);
-  const MaterialLayout full = MaterialLayout::of(settings);
+  const MaterialLayout full = MaterialLayout::of(settings, blocks);
   mips.max_rank = std::min(full.light_count(), 8);
   mips.allocate();
   const auto tm = Clock::now();
@@ -211,15 +220,14 @@ MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& 
   e.view_nodes = layout.view_count();
   e.light_nodes = layout.light_count();
   e.rays = uint64_t(e.view_nodes) * layout.level_texels(0) * uint64_t(settings.spp);
-  e.light_field_bytes =
-      LightFieldSet::bytes_for(volume, e.light_nodes, settings.field_supersample);
-  e.fixed_bytes = material_bake_fixed_bytes(volume, settings, threads);
+  e.light_field_bytes = material_bake_fixed_bytes(material, volume, 0);
+  e.fixed_bytes = material_bake_fixed_bytes(material, volume, threads);
   e.max_bytes = layout.table_bytes(e.light_nodes);
 
   const ProbeLights lights = probe_fields(material, volume, e);
   probe_marches(material, volume, shader, lights, threads, e);
   e.factorise_seconds = probe_factorise(layout, threads);
-  e.mips_seconds = probe_mips(volume, optics, settings);
+  e.mips_seconds = probe_mips(volume, optics, settings, material.crossings.count());
   e.whole_view_nodes = e.view_nodes;
   if (!shard.whole()) {
     const std::vector<int> views = material_shard_views(material.view_grid, shard);

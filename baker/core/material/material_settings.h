@@ -28,6 +28,17 @@ inline constexpr int k_min_fiber_tangent_nodes = 2, k_max_fiber_tangent_nodes = 
 /// family, to be multiplied by the yarn colours when the material renders.
 enum class MaterialParts { Rgb, SpecularWarpWeft };
 
+/// How a material's texels cover the cloth (docs/material-format.md): the
+/// whole repeat, R x R texels; or one block of R x R texels per distinct
+/// crossing neighbourhood (crossing_neighbourhoods.h, plus 1), addressed
+/// through a per-crossing index, so that its size follows the weave's
+/// variety and not its repeat.
+enum class MaterialAddress { Repeat, Crossings };
+
+/// Crossings either side of a block's crossing that its light fields hold
+/// (the context a shadow ray sees before it wraps).
+inline constexpr int k_min_material_context = 1, k_max_material_context = 4;
+
 /// Which part of a sharded bake a material is (material_shard.h): part
 /// `index` (0-based; the CLI's --shard counts from 1) of `count`. A count of
 /// 1 is the whole bake.
@@ -56,6 +67,12 @@ struct MaterialSettings {
   /// the material (view_parallax.h); off: every node at the eye's x.
   bool view_parallax = true;
   uint64_t seed = 1;
+  /// Whole repeat (texels: R per repeat side) or per crossing (texels: R per
+  /// crossing side, one block per plus-1 class).
+  MaterialAddress address = MaterialAddress::Repeat;
+  /// Addressed per crossing: crossings either side of a block's that its
+  /// light fields span.
+  int context = 2;
   /// Colour-free parts need fibre shading and a volume made colour-free
   /// (core/weave/cloth_colours.h); the command chooses.
   MaterialParts parts = MaterialParts::Rgb;

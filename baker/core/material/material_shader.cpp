@@ -126,7 +126,10 @@ SurfaceShader material_shader(const ClothScene& prepared,
     const float across_world = (p_world - eye).length() * angle;
     const float mm = std::sqrt(std::fabs(frame.mm_per_world.x * frame.mm_per_world.y));
     const float footprint_mm = across_world / std::sqrt(cos_view) * mm;
-    const float texel_mm = mat.repeat_mm.x / float(mat.texels());
+    // A level-0 texel: R per repeat, or R per thread when addressed per
+    // crossing (the mean thread's width).
+    const float texel_mm =
+        mat.repeat_mm.x / float(mat.texels() * (mat.addressed() ? mat.crossings.ends : 1));
     const float footprint_texels = settings.footprint_scale * stratum * footprint_mm / texel_mm;
 
     ClothMaterial::Light lights[k_max_march_lights];

@@ -113,8 +113,10 @@ float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMar
   V3f* reflect = scratch.reflect.data();
   float* t_light = scratch.transmittance.data();
   // The per-cell cache (NodeMarchScratch) holds for deterministic models only.
+  // With a fibre table the cache is never read: not allocated (it holds
+  // cells x lights x 2 floats, 60 GB for a 48-thread WIF at 32 cells a thread).
   const bool cacheable = in.shading == ShadingMode::Fiber && scratch.view_tag != 0 &&
-                         in.shader->kind() != FiberModelKind::Ellipsoid;
+                         in.shader->kind() != FiberModelKind::Ellipsoid && !in.fiber_table;
   const Cell* cells = volume.cells().data();
   if (cacheable && scratch.tag.size() != volume.cell_count()) {
     scratch.tag.assign(volume.cell_count(), 0);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/material/cloth_material.h"
+#include "core/material/material_bake.h"
 #include "core/util/vector_math.h"
 
 namespace clothbake {
@@ -29,7 +30,7 @@ namespace {
 /// Each view node's level-0 image under every light node at once (one
 /// scalar per texel: the sum of its channels), empty for rank-0 nodes.
 std::vector<std::vector<float>> view_images(const ClothMaterial& m) {
-  const int side = m.level_side(0), texels = side * side, n_nodes = m.light_count();
+  const int texels = int(m.layout().level_texels(0)), n_nodes = m.light_count();
   const size_t r = size_t(m.max_rank);
   std::vector<std::vector<float>> images(size_t(m.view_count()));
   for (int v = 0; v < m.view_count(); ++v) {
@@ -75,7 +76,26 @@ constexpr float k_fit_max_slope = 2.75f;
 
 ViewParallaxFit fit_view_parallax(const ClothMaterial& m) {
   const std::vector<std::vector<float>> images = view_images(m);
-  const int side = m.level_side(0), k = m.view_grid.k;
+  const int side = m.level_side(0), rows = m.layout().level_rows(0), k = m.view_grid.k;
+  // Addressed per crossing: each texel's centre in its block's crossing, and
+  // a view node read there through the crossings' index (shade()'s taps).
+  std::vector<V2f> centres_mm;
+  if (m.addressed()) {
+    for (int y = 0; y < rows; ++y)
+      for (int x = 0; x < side; ++x) {
+        const CrossingClasses::Crossing c = m.crossings.representative[size_t(y / side)];
+        const ThreadSpan sx = thread_span(*m.warp_threads, c.end);
+        const ThreadSpan sy = thread_span(*m.weft_threads, c.pick);
+        centres_mm.push_back(V2f(sx.left_mm + (float(x) + 0.5f) / float(side) * sx.width_mm(),
+                                 sy.left_mm + (float(y % side) + 0.5f) / float(side) * sy.width_mm()));
+      }
+  }
+  const auto read_addressed = [&](const std::vector<float>& img, float x_mm, float y_mm) {
+    const ClothMaterial::Taps t = m.crossing_taps(x_mm, y_mm, 0, 0, nullptr);
+    float sum = 0.0f;
+    for (int i = 0; i < 4; ++i) sum += t.w[i] * img[t.texel[i]];
+    return sum;
+  };
   const float texels_per_mm_x = float(side) / m.repeat_mm.x;
   const float texels_per_mm_y = float(side) / m.repeat_mm.y;
   struct Pair {
@@ -111,6 +131,17 @@ ViewParallaxFit fit_view_parallax(const ClothMaterial& m) {
       const std::vector<float>& a = images[size_t(p.a)];
       const std::vector<float>& b = images[size_t(p.b)];
       double diff = 0.0, norm = 0.0;
+      if (m.addressed()) {
+        for (size_t t = 0; t < centres_mm.size(); ++t) {
+          const double va = a[t];
+          const double d =
+              va - double(read_addressed(b, centres_mm[t].x + shift.x, centres_mm[t].y + shift.y));
+          diff += d * d;
+          norm += va * va;
+        }
+        if (norm > 0.0) total += diff / norm;
+        continue;
+      }
       for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) {
           // Texel centres at (x + 0.5) / side of the repeat, as shade() reads.

@@ -74,6 +74,8 @@ ColourStrip colour_strip(std::span<const float> centres, float repeat_mm,
     }
     return out;
   };
+  strip.threads.resize(size_t(q) * size_t(n));
+  for (int j = 0; j < q * n; ++j) strip.threads[size_t(j)] = colour(j);
   strip.levels = pyramid(level0(0));
   strip.plus = pyramid(level0(1));
   strip.minus = pyramid(level0(-1));

@@ -37,6 +37,9 @@ struct ColourStrip {
   std::vector<std::vector<Imath::V3f>> levels;  ///< the owning thread's colour
   std::vector<std::vector<Imath::V3f>> plus;    ///< the colour of the owner's thread + 1
   std::vector<std::vector<Imath::V3f>> minus;   ///< the colour of the owner's thread - 1
+  /// Per thread of the q repeats, its own colour: what a material addressed
+  /// per crossing reads (every texel of a block lies in one crossing).
+  std::vector<Imath::V3f> threads;
 };
 
 /// The strip of threads with centres `centres_mm` (ascending, in [0,

@@ -1,6 +1,7 @@
 #include "core/weave/crossing_neighbourhoods.h"
 
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "core/weave/cloth_colours.h"
@@ -23,7 +24,50 @@ void append_thread(std::string& key, const YarnSpec& yarn, const ThreadLayout& l
   key.append(reinterpret_cast<const char*>(v), sizeof v);
 }
 
+/// The periodic drawdown over the layouts' repeat (a multiple of the draft's
+/// when a spacing or width sequence lengthens it): '1' where the warp is up.
+struct Drawdown {
+  const WeaveDraft& draft;
+  char up(int p, int e) const {
+    const int pp = ((p % draft.picks()) + draft.picks()) % draft.picks();
+    const int ee = ((e % draft.ends()) + draft.ends()) % draft.ends();
+    return draft.warp_up(pp, ee) ? '1' : '0';
+  }
+};
+
+/// The plus-1 key of crossing (e, p): the three crossings along its end and
+/// along its pick, and the spacing and width of the three ends and picks.
+void plus1_key(std::string& key, const Drawdown& dd, const ClothSpec& spec,
+               const ThreadLayout& ends, const ThreadLayout& picks, int e, int p) {
+  key.clear();
+  for (int d = -1; d <= 1; ++d) key += dd.up(p + d, e);
+  for (int d = -1; d <= 1; ++d) key += dd.up(p, e + d);
+  for (int d = -1; d <= 1; ++d) append_thread(key, spec.warp, ends, e + d);
+  for (int d = -1; d <= 1; ++d) append_thread(key, spec.weft, picks, p + d);
+}
+
 }  // namespace
+
+CrossingClasses crossing_classes(const ClothSpec& spec) {
+  const WeaveDraft draft = draft_of(spec);
+  const ThreadLayout ends = thread_layout(spec, draft, true);
+  const ThreadLayout picks = thread_layout(spec, draft, false);
+  const Drawdown dd{draft};
+  CrossingClasses out;
+  out.ends = ends.count();
+  out.picks = picks.count();
+  out.class_of.resize(size_t(out.ends) * size_t(out.picks));
+  std::unordered_map<std::string, int> seen;
+  std::string key;
+  for (int p = 0; p < out.picks; ++p)
+    for (int e = 0; e < out.ends; ++e) {
+      plus1_key(key, dd, spec, ends, picks, e, p);
+      const auto [it, added] = seen.emplace(key, out.count());
+      if (added) out.representative.push_back({e, p});
+      out.class_of[size_t(p) * size_t(out.ends) + size_t(e)] = it->second;
+    }
+  return out;
+}
 
 NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
   const ClothSpec spec = colour_free(coloured);
@@ -38,21 +82,14 @@ NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
   out.picks = picks.count();
   // The drawdown over the layouts' repeat (a multiple of the draft's when a
   // spacing or width sequence lengthens it), periodic in both directions.
-  auto up = [&](int p, int e) {
-    const int pp = ((p % draft.picks()) + draft.picks()) % draft.picks();
-    const int ee = ((e % draft.ends()) + draft.ends()) % draft.ends();
-    return draft.warp_up(pp, ee) ? '1' : '0';
-  };
+  const Drawdown dd{draft};
+  auto up = [&](int p, int e) { return dd.up(p, e); };
   std::unordered_set<std::string> plus;
   std::array<std::unordered_set<std::string>, 3> square;
   std::string key;
   for (int p = 0; p < out.picks; ++p)
     for (int e = 0; e < out.ends; ++e) {
-      key.clear();
-      for (int d = -1; d <= 1; ++d) key += up(p + d, e);
-      for (int d = -1; d <= 1; ++d) key += up(p, e + d);
-      for (int d = -1; d <= 1; ++d) append_thread(key, spec.warp, ends, e + d);
-      for (int d = -1; d <= 1; ++d) append_thread(key, spec.weft, picks, p + d);
+      plus1_key(key, dd, spec, ends, picks, e, p);
       plus.insert(key);
       for (int r = 1; r <= 3; ++r) {
         key.clear();

@@ -19,6 +19,7 @@
 ///                that crosses r threads sees).
 
 #include <array>
+#include <vector>
 
 #include "core/weave/cloth_spec.h"
 
@@ -31,6 +32,28 @@ struct NeighbourhoodCounts {
   std::array<int, 3> square{};   ///< distinct square windows of radius 1, 2, 3
   long long crossings() const { return (long long)ends * picks; }
 };
+
+/// Every crossing of a colour-free cloth sorted into its plus-1 class (the
+/// blocks of a material addressed per crossing, docs/material-format.md,
+/// "Addressed per crossing"): classes numbered in order of first appearance
+/// (pick-major), each with the first crossing of it as its representative.
+struct CrossingClasses {
+  int ends = 0, picks = 0;
+  std::vector<int> class_of;  ///< [pick * ends + end]
+  struct Crossing {
+    int end = 0, pick = 0;
+  };
+  std::vector<Crossing> representative;  ///< per class
+  int count() const { return int(representative.size()); }
+  int at(int end, int pick) const {
+    const int e = ((end % ends) + ends) % ends, p = ((pick % picks) + picks) % picks;
+    return class_of[size_t(p) * size_t(ends) + size_t(e)];
+  }
+};
+
+/// The plus-1 classes of `colour_free_spec` (already colour_free(): its
+/// threads are the material's), over its thread layouts' repeat.
+CrossingClasses crossing_classes(const ClothSpec& colour_free_spec);
 
 /// The counts of `spec`'s weave (deterministic; about a second for a 641 x 641
 /// repeat).
