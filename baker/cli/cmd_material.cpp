@@ -272,6 +272,12 @@ void register_material_command(CLI::App& app, Action action) {
                   "fields span")
       ->check(CLI::Range(k_min_material_context, k_max_material_context))
       ->capture_default_str();
+  cmd->add_option("--members", s.members,
+                  "--address crossings: crossings of each class a block averages, spread over "
+                  "the class (1: its first crossing alone; more average the crossings' own "
+                  "randomness, at that many times the bake)")
+      ->check(CLI::Range(k_min_material_members, k_max_material_members))
+      ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", s.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")
       ->check(tangent_nodes)->capture_default_str();

@@ -105,6 +105,7 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
                       {"picks", m.crossings.picks},
                       {"blocks", m.crossings.count()},
                       {"context", s.context},
+                      {"members", s.members},
                       {"file", k_crossings_file}};
   }
   j["directions"] = s.directions;
@@ -234,6 +235,7 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
                           "\"specular-warp-weft\")");
     if (!top.has("crossings")) top.fail("crossings", "is missing (the material is addressed per crossing)");
     top.object("crossings").read("context", s.context);
+    top.object("crossings").read("members", s.members);
   }
   try {
     check_material_settings(s);

@@ -207,3 +207,19 @@ def test_missing_image_is_named(material, tmp_path):
     with pytest.raises(ClothbakeError) as e:
         mp.read_material(str(bad))
     assert "level_1.exr" in str(e.value)
+
+
+def test_addressed_per_crossing_is_refused_by_name(tmp_path):
+    """A material addressed per crossing (format version 3) is lookup-render's
+    only for now: Apply refuses it naming the field and saying what to do,
+    not as a material from a newer program."""
+    source = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+    exe = os.environ.get("CLOTHBAKE_BIN", os.path.join(source, "build", "baker", "clothbake"))
+    out = str(tmp_path / "addressed")
+    subprocess.run([exe, "material", os.path.join(source, "testscenes", "paper", "cloth.json"),
+                    "-o", out, "--address", "crossings", "--texels", "2", "--directions", "2",
+                    "--light-directions", "2", "--spp", "1", "--context", "1", "--quiet"],
+                   check=True, stdout=subprocess.DEVNULL)
+    with pytest.raises(ClothbakeError) as e:
+        mp.read_material(out)
+    assert e.value.field == "address" and "--address repeat" in str(e.value)

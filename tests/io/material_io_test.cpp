@@ -9,6 +9,7 @@
 #include "core/texture/volume_generator.h"
 #include "core/util/error.h"
 #include "core/weave/cloth_colours.h"
+#include "io/data_image.h"
 
 namespace clothbake::io {
 namespace {
@@ -133,6 +134,69 @@ TEST(MaterialIo, ColourFreePartsRoundTrip) {
   const std::string err = error_of(dir);
   EXPECT_NE(err.find("level_0.exr"), std::string::npos) << err;
   EXPECT_NE(err.find("channels"), std::string::npos) << err;
+}
+
+// Addressed per crossing (version 3): the blocks and the index read back
+// as written; a manifest whose counts or an index that disagrees with the
+// classes the cloth spec gives is refused, naming the field or the file.
+TEST(MaterialIo, AddressedPerCrossingRoundTrip) {
+  TempDir tmp;
+  ClothSpec spec;
+  spec.pattern = "twill_2_2";
+  spec.resolution = {16, 16, 8, 1};
+  const ClothSpec free = colour_free(spec);
+  const VolumeTexture volume = generate_volume(free, uint64_t(1) << 32);
+  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
+  MaterialSettings s;
+  s.texels = 2;
+  s.directions = 2;
+  s.light_directions = 2;
+  s.spp = 1;
+  s.field_supersample = 1;
+  s.context = 1;
+  s.parts = MaterialParts::SpecularWarpWeft;
+  s.address = MaterialAddress::Crossings;
+  ClothMaterial m =
+      bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32, {}, nullptr, &free);
+  m.set_cloth(free, palette_of(spec));
+  const std::string dir = (tmp.path / "mat").string();
+  write_material(dir, m, small_info());
+  MaterialInfo info;
+  const ClothMaterial r = read_material(dir, info);
+  ASSERT_TRUE(r.addressed());
+  EXPECT_EQ(r.crossings.count(), 4);
+  EXPECT_EQ(r.crossings.class_of, m.crossings.class_of);
+  EXPECT_EQ(r.settings.context, 1);
+  ASSERT_EQ(r.levels(), m.levels());
+  for (int l = 0; l < r.levels(); ++l) {
+    ASSERT_EQ(r.alpha[size_t(l)].size(), m.alpha[size_t(l)].size());
+    for (size_t t = 0; t < r.alpha[size_t(l)].size(); ++t)
+      EXPECT_NEAR(r.alpha[size_t(l)][t], m.alpha[size_t(l)][t], 1e-3f);  // stored as halves
+  }
+  const fs::path manifest = fs::path(dir) / "manifest.json";
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(manifest));
+  EXPECT_EQ(j["version"], 3);
+  EXPECT_EQ(j["address"], "crossings");
+  EXPECT_EQ(j["crossings"]["blocks"], 4);
+  // Counts that are not the spec's.
+  nlohmann::json bad = j;
+  bad["crossings"]["blocks"] = 3;
+  std::ofstream(manifest) << bad.dump();
+  std::string err = error_of(dir);
+  EXPECT_NE(err.find("crossings.blocks"), std::string::npos) << err;
+  // An index other than the spec's classes.
+  std::ofstream(manifest) << j.dump();
+  const int w = r.crossings.ends, h = r.crossings.picks;
+  std::vector<float> index(size_t(w) * h, 0.0f);
+  write_data_image((fs::path(dir) / "crossings.exr").string(), w, h, {"block"}, index.data());
+  err = error_of(dir);
+  EXPECT_NE(err.find("crossings.exr"), std::string::npos) << err;
+  // An RGB material cannot be addressed per crossing.
+  bad = j;
+  bad["parts"] = "rgb";
+  std::ofstream(manifest) << bad.dump();
+  err = error_of(dir);
+  EXPECT_NE(err.find("address"), std::string::npos) << err;
 }
 
 TEST(MaterialIo, SameBytesTwice) {

@@ -90,6 +90,7 @@ void check_material_settings(const MaterialSettings& s) {
         k_max_material_directions);
   range("spp", s.spp, k_min_material_spp, k_max_material_spp);
   range("context", s.context, k_min_material_context, k_max_material_context);
+  range("members", s.members, k_min_material_members, k_max_material_members);
   range("field_supersample", s.field_supersample, k_min_field_supersample,
         k_max_field_supersample);
   if (s.fiber_tangent_nodes != 0)
@@ -125,15 +126,22 @@ std::vector<V3f> material_light_directions(const ClothMaterial& material) {
 NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
                                const FiberShader& shader, const LightFieldSet& fields,
                                std::span<const V3f> light_local, int view, int x, int y, int k) {
+  return material_sample(material, volume, shader, fields, light_local, view, x, y, k,
+                         material.addressed()
+                             ? material.crossings.representative[size_t(y / material.texels())]
+                             : CrossingClasses::Crossing{});
+}
+
+NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
+                               const FiberShader& shader, const LightFieldSet& fields,
+                               std::span<const V3f> light_local, int view, int x, int y, int k,
+                               const CrossingClasses::Crossing& c) {
   const MaterialSettings& s = material.settings;
   const MaterialOptics& o = material.optics;
-  // Addressed per crossing, row y of level 0 lies in block y / R, at its
-  // representative crossing; its samples are seeded as the texel a whole
-  // repeat of R texels per thread would hold there, so that where every
-  // crossing is its own class the two bakes march the same samples.
-  const CrossingClasses::Crossing c = material.addressed()
-                                          ? material.crossings.representative[size_t(y / s.texels)]
-                                          : CrossingClasses::Crossing{};
+  // Addressed per crossing, row y of level 0 lies in block y / R, at a
+  // crossing of its class (`c`); its samples are seeded as the texel a
+  // whole repeat of R texels per thread would hold there, so that where
+  // every crossing is its own class the two bakes march the same samples.
   const uint64_t seed_x = material.addressed() ? uint64_t(c.end) * s.texels + x : uint64_t(x);
   const uint64_t seed_y =
       material.addressed() ? uint64_t(c.pick) * s.texels + uint64_t(y % s.texels) : uint64_t(y);
@@ -187,23 +195,27 @@ ThreadSpan thread_span(const ThreadLayout& threads, int i) {
                     0.5f * (threads.centre_mm(i) + threads.centre_mm(i + 1))};
 }
 
+BlockWindow crossing_window(const ClothMaterial& material, const VolumeTexture& volume,
+                            const CrossingClasses::Crossing& c) {
+  const V3f cell = volume.cell_size_mm();
+  const int w = material.settings.context;
+  const float x0 = thread_span(*material.warp_threads, c.end - w).left_mm;
+  const float x1 = thread_span(*material.warp_threads, c.end + w).right_mm;
+  const float y0 = thread_span(*material.weft_threads, c.pick - w).left_mm;
+  const float y1 = thread_span(*material.weft_threads, c.pick + w).right_mm;
+  BlockWindow b;
+  b.x0 = int(std::floor(x0 / cell.x));
+  b.y0 = int(std::floor(y0 / cell.y));
+  b.cells_x = std::min(volume.nx(), int(std::ceil(x1 / cell.x)) - b.x0);
+  b.cells_y = std::min(volume.ny(), int(std::ceil(y1 / cell.y)) - b.y0);
+  return b;
+}
+
 std::vector<BlockWindow> block_windows(const ClothMaterial& material, const VolumeTexture& volume) {
   std::vector<BlockWindow> out;
   if (!material.addressed()) return out;
-  const V3f cell = volume.cell_size_mm();
-  const int w = material.settings.context;
-  for (const CrossingClasses::Crossing& c : material.crossings.representative) {
-    const float x0 = thread_span(*material.warp_threads, c.end - w).left_mm;
-    const float x1 = thread_span(*material.warp_threads, c.end + w).right_mm;
-    const float y0 = thread_span(*material.weft_threads, c.pick - w).left_mm;
-    const float y1 = thread_span(*material.weft_threads, c.pick + w).right_mm;
-    BlockWindow b;
-    b.x0 = int(std::floor(x0 / cell.x));
-    b.y0 = int(std::floor(y0 / cell.y));
-    b.cells_x = std::min(volume.nx(), int(std::ceil(x1 / cell.x)) - b.x0);
-    b.cells_y = std::min(volume.ny(), int(std::ceil(y1 / cell.y)) - b.y0);
-    out.push_back(b);
-  }
+  for (const CrossingClasses::Crossing& c : material.crossings.representative)
+    out.push_back(crossing_window(material, volume, c));
   return out;
 }
 
@@ -248,7 +260,8 @@ void march_view_rows(const ClothMaterial& material, const VolumeTexture& volume,
                      const FiberShader& shader, const LightFieldSet& fields,
                      std::span<const V3f> light_local, int view, int y0, int y1,
                      const FiberLightTable* table, ViewLocal& local, Eigen::MatrixXf& m,
-                     std::vector<float>& alpha) {
+                     std::vector<float>& alpha, const CrossingClasses::Crossing* at = nullptr,
+                     float weight = 1.0f) {
   const MaterialSettings& settings = material.settings;
   const int R = settings.texels, n_lights = int(light_local.size());
   local.scratch.view_tag = uint32_t(view) + 1;
@@ -264,7 +277,8 @@ void march_view_rows(const ClothMaterial& material, const VolumeTexture& volume,
       float see_through = 0.0f;
       for (int k = 0; k < settings.spp; ++k) {
         NodeMarchInput in =
-            material_sample(material, volume, shader, fields, light_local, view, x, y, k);
+            at ? material_sample(material, volume, shader, fields, light_local, view, x, y, k, *at)
+               : material_sample(material, volume, shader, fields, light_local, view, x, y, k);
         in.fiber_table = table;
         see_through += in.length_mm > 0.0f
                            ? march_view_ray_all_lights(in, local.radiance.data(), local.scratch,
@@ -272,18 +286,29 @@ void march_view_rows(const ClothMaterial& material, const VolumeTexture& volume,
                            : 1.0f;
       }
       const Eigen::Index row = (Eigen::Index(y) * R + x) * ch;
-      for (int n = 0; n < n_lights; ++n) {
-        const V3f r = local.radiance[size_t(n)] * inv_spp;
-        if (!parts) {
-          m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
-          continue;
+      if (weight == 1.0f) {
+        for (int n = 0; n < n_lights; ++n) {
+          const V3f r = local.radiance[size_t(n)] * inv_spp;
+          if (!parts) {
+            m(row, n) = r.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+            continue;
+          }
+          // Specular has no colour: the next threads' joins the own.
+          const V3f rn = local.radiance_next[size_t(n)] * inv_spp;
+          m(row, n) = r.x + rn.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
+          m(row + 3, n) = rn.y, m(row + 4, n) = rn.z;
         }
-        // Specular has no colour: the next threads' joins the own.
-        const V3f rn = local.radiance_next[size_t(n)] * inv_spp;
-        m(row, n) = r.x + rn.x, m(row + 1, n) = r.y, m(row + 2, n) = r.z;
-        m(row + 3, n) = rn.y, m(row + 4, n) = rn.z;
+        alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
+        continue;
       }
-      alpha[size_t(y) * R + x] = 1.0f - see_through * inv_spp;
+      // One of several member crossings (colour-free parts): its share.
+      const float w = weight * inv_spp;
+      for (int n = 0; n < n_lights; ++n) {
+        const V3f r = local.radiance[size_t(n)] * w, rn = local.radiance_next[size_t(n)] * w;
+        m(row, n) += r.x + rn.x, m(row + 1, n) += r.y, m(row + 2, n) += r.z;
+        m(row + 3, n) += rn.y, m(row + 4, n) += rn.z;
+      }
+      alpha[size_t(y) * R + x] += weight * (1.0f - see_through * inv_spp);
     }
 }
 
@@ -390,44 +415,56 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   std::mutex progress_mutex;
   std::atomic<bool> over_budget{false};
   uint64_t field_bytes_built = 0;
+  double marches_per_block = 1.0;  // addressed per crossing: its members
   if (material.addressed()) {
     // Per crossing: block by block, its light fields over the window of
     // `context` crossings around its representative, then every view
     // node's rows of that block (the view nodes' matrices and fibre tables
     // are held across the blocks; one window's fields at a time).
-    const std::vector<BlockWindow> windows = block_windows(material, volume);
     const int R = settings.texels, rows = material.layout().level_rows(0);
     const int ch = material.layout().channels;
     const bool tabulate = tabulates_fiber(settings, optics);
     std::vector<Eigen::MatrixXf> matrices(static_cast<size_t>(n_views));
     std::vector<FiberLightTable> tables(tabulate ? size_t(n_views) : 0);
     tbb::parallel_for(0, n_views, [&](int i) {
-      matrices[size_t(i)].resize(Eigen::Index(R) * rows * ch, n_lights);
+      matrices[size_t(i)].setZero(Eigen::Index(R) * rows * ch, n_lights);
       factors[size_t(views[size_t(i)])].alpha.assign(size_t(R) * rows, 0.0f);
       if (tabulate)
         build_fiber_table(material, shader, light_local, views[size_t(i)], tables[size_t(i)],
                           locals.local().counts);
     });
-    const double steps = double(windows.size()) * n_views + n_views;
-    std::atomic<int> steps_done{0};
-    for (size_t b = 0; b < windows.size(); ++b) {
-      const BlockWindow& w = windows[b];
-      const LightFieldSet fields =
-          LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, light_texture,
-                                      optics.extinction_per_mm, settings.field_supersample);
-      field_bytes_built = std::max<uint64_t>(field_bytes_built, fields.bytes());
-      tbb::parallel_for(0, n_views, [&](int i) {
-        const int view = views[size_t(i)];
-        march_view_rows(material, volume, shader, fields, light_local, view, int(b) * R,
-                        int(b + 1) * R, tabulate ? &tables[size_t(i)] : nullptr, locals.local(),
-                        matrices[size_t(i)], factors[size_t(view)].alpha);
-        const int done = ++steps_done;
-        if (progress) {
-          std::lock_guard lock(progress_mutex);
-          progress(double(done) / steps);
-        }
-      });
+    std::vector<std::vector<CrossingClasses::Crossing>> members;
+    size_t marches = 0;
+    for (int b = 0; b < material.crossings.count(); ++b) {
+      members.push_back(material.crossings.members(b, settings.members));
+      marches += members.back().size();
     }
+    marches_per_block = double(marches) / double(std::max<size_t>(members.size(), 1));
+    const double steps = double(marches) * n_views + n_views;
+    std::atomic<int> steps_done{0};
+    for (size_t b = 0; b < members.size(); ++b)
+      for (const CrossingClasses::Crossing& c : members[b]) {
+        // The block is the mean of its members' marches (one member: the
+        // representative's, assigned as a whole-repeat bake's texels are).
+        const float weight = members[b].size() == 1 ? 1.0f : 1.0f / float(members[b].size());
+        const BlockWindow w = crossing_window(material, volume, c);
+        const LightFieldSet fields =
+            LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, light_texture,
+                                        optics.extinction_per_mm, settings.field_supersample);
+        field_bytes_built = std::max<uint64_t>(field_bytes_built, fields.bytes());
+        tbb::parallel_for(0, n_views, [&](int i) {
+          const int view = views[size_t(i)];
+          march_view_rows(material, volume, shader, fields, light_local, view, int(b) * R,
+                          int(b + 1) * R, tabulate ? &tables[size_t(i)] : nullptr,
+                          locals.local(), matrices[size_t(i)], factors[size_t(view)].alpha, &c,
+                          weight);
+          const int done = ++steps_done;
+          if (progress) {
+            std::lock_guard lock(progress_mutex);
+            progress(double(done) / steps);
+          }
+        });
+      }
     tables.clear();
     tbb::parallel_for(0, n_views, [&](int i) {
       ViewFactors& f = factors[size_t(views[size_t(i)])];
@@ -478,7 +515,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
       stats->fiber_evaluations += l.counts.fiber_evaluations;
     }
     const size_t texels = material.layout().level_texels(0);
-    stats->rays = uint64_t(n_views) * texels * uint64_t(settings.spp);
+    stats->rays = uint64_t(double(n_views) * double(texels) * settings.spp * marches_per_block);
     stats->field_bytes = field_bytes_built;
     stats->uncompressed_values = double(n_views) * double(texels) * n_lights * material.layout().channels;
   }

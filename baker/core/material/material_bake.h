@@ -49,6 +49,9 @@ struct BlockWindow {
   int x0 = 0, y0 = 0, cells_x = 0, cells_y = 0;
 };
 std::vector<BlockWindow> block_windows(const ClothMaterial& material, const VolumeTexture& volume);
+/// The window around one crossing.
+BlockWindow crossing_window(const ClothMaterial& material, const VolumeTexture& volume,
+                            const CrossingClasses::Crossing& c);
 
 /// Bytes the bake holds before the factorised table grows: the light fields
 /// (the blocks' windows when addressed) and one view's matrix per thread.
@@ -78,6 +81,12 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
                                const FiberShader& shader, const LightFieldSet& fields,
                                std::span<const Imath::V3f> light_local, int view, int x, int y,
                                int k);
+/// Addressed per crossing: the same at crossing `at` of the block's class
+/// (one of its members, settings.members) instead of its representative.
+NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
+                               const FiberShader& shader, const LightFieldSet& fields,
+                               std::span<const Imath::V3f> light_local, int view, int x, int y,
+                               int k, const CrossingClasses::Crossing& at);
 
 /// The light nodes' bake directions in the material's frame.
 std::vector<Imath::V3f> material_light_directions(const ClothMaterial& material);

@@ -67,7 +67,15 @@ ProbeLights probe_fields(const ClothMaterial& material, const VolumeTexture& vol
   const std::vector<BlockWindow> windows = block_windows(material, volume);
   const BlockWindow whole{0, 0, volume.nx(), volume.ny()};
   const BlockWindow& w = windows.empty() ? whole : windows.front();
-  const double blocks = windows.empty() ? 1.0 : double(windows.size());
+  // Each block marches its members (settings.members, fewer where a class
+  // has fewer crossings), each under its own window's fields.
+  double blocks = 1.0;
+  if (!windows.empty()) {
+    blocks = 0.0;
+    for (int b = 0; b < material.crossings.count(); ++b)
+      blocks += double(material.crossings.members(b, s.members).size());
+  }
+  e.marches_per_block = windows.empty() ? 1.0 : blocks / double(windows.size());
   const auto t0 = Clock::now();
   p.fields_p = LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, p.texture,
                                            sigma, s.field_supersample);
@@ -219,12 +227,13 @@ MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& 
   const MaterialLayout layout = material.layout();
   e.view_nodes = layout.view_count();
   e.light_nodes = layout.light_count();
-  e.rays = uint64_t(e.view_nodes) * layout.level_texels(0) * uint64_t(settings.spp);
   e.light_field_bytes = material_bake_fixed_bytes(material, volume, 0);
   e.fixed_bytes = material_bake_fixed_bytes(material, volume, threads);
   e.max_bytes = layout.table_bytes(e.light_nodes);
 
   const ProbeLights lights = probe_fields(material, volume, e);
+  e.rays = uint64_t(double(e.view_nodes) * double(layout.level_texels(0)) * settings.spp *
+                    e.marches_per_block);
   probe_marches(material, volume, shader, lights, threads, e);
   e.factorise_seconds = probe_factorise(layout, threads);
   e.mips_seconds = probe_mips(volume, optics, settings, material.crossings.count());

@@ -19,7 +19,10 @@ namespace clothbake {
 /// as "seconds"), not reading the input or writing the folder.
 struct MaterialEstimate {
   int view_nodes = 0, light_nodes = 0;
-  uint64_t rays = 0;  ///< view marches of the whole bake: view nodes x texels^2 x spp
+  uint64_t rays = 0;  ///< view marches of the whole bake: view nodes x texels^2 x spp (x members)
+  /// Addressed per crossing: crossings marched per block (settings.members
+  /// where a class has as many); 1 for the whole repeat.
+  double marches_per_block = 1.0;
   int probe_light_nodes = 0, probe_view_nodes = 0;
   uint64_t probe_rays = 0;         ///< marched per light-field set (twice in all)
   double probe_seconds = 0.0;      ///< wall time of the whole probe

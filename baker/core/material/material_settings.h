@@ -38,6 +38,8 @@ enum class MaterialAddress { Repeat, Crossings };
 /// Crossings either side of a block's crossing that its light fields hold
 /// (the context a shadow ray sees before it wraps).
 inline constexpr int k_min_material_context = 1, k_max_material_context = 4;
+/// Crossings of a class a block averages (its representative first).
+inline constexpr int k_min_material_members = 1, k_max_material_members = 16;
 
 /// Which part of a sharded bake a material is (material_shard.h): part
 /// `index` (0-based; the CLI's --shard counts from 1) of `count`. A count of
@@ -73,6 +75,9 @@ struct MaterialSettings {
   /// Addressed per crossing: crossings either side of a block's that its
   /// light fields span.
   int context = 2;
+  /// Addressed per crossing: crossings of each class the block averages,
+  /// spread over the class (1: its representative alone).
+  int members = 1;
   /// Colour-free parts need fibre shading and a volume made colour-free
   /// (core/weave/cloth_colours.h); the command chooses.
   MaterialParts parts = MaterialParts::Rgb;

@@ -1,5 +1,6 @@
 #include "core/weave/crossing_neighbourhoods.h"
 
+#include <algorithm>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -66,6 +67,16 @@ CrossingClasses crossing_classes(const ClothSpec& spec) {
       if (added) out.representative.push_back({e, p});
       out.class_of[size_t(p) * size_t(out.ends) + size_t(e)] = it->second;
     }
+  return out;
+}
+
+std::vector<CrossingClasses::Crossing> CrossingClasses::members(int b, int n) const {
+  std::vector<Crossing> all;
+  for (size_t i = 0; i < class_of.size(); ++i)
+    if (class_of[i] == b) all.push_back({int(i % size_t(ends)), int(i / size_t(ends))});
+  const size_t m = std::min(all.size(), size_t(std::max(n, 1)));
+  std::vector<Crossing> out;
+  for (size_t i = 0; i < m; ++i) out.push_back(all[i * all.size() / m]);
   return out;
 }
 

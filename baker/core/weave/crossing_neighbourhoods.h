@@ -45,6 +45,9 @@ struct CrossingClasses {
   };
   std::vector<Crossing> representative;  ///< per class
   int count() const { return int(representative.size()); }
+  /// Up to `n` crossings of class b, spread evenly over its crossings in
+  /// pick-major order, the representative first.
+  std::vector<Crossing> members(int b, int n) const;
   int at(int end, int pick) const {
     const int e = ((end % ends) + ends) % ends, p = ((pick % picks) + picks) % picks;
     return class_of[size_t(p) * size_t(ends) + size_t(e)];

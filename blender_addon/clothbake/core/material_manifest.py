@@ -17,6 +17,8 @@ SQUARE = "hemi-octahedral"
 RGB = "rgb"
 SWF = "specular-warp-weft"   # colour-free parts: kNNNN.specular, .warp, .weft, .warp_next, .weft_next
 VERSIONS = (1, 2)
+# Written only for a material addressed per crossing (--address crossings).
+ADDRESSED_VERSION = 3
 FAMILIES = ("warp", "weft")
 SWF_CHANNELS = ("specular", "warp", "weft", "warp_next", "weft_next")
 
@@ -107,6 +109,12 @@ def read_material(folder):
     if not isinstance(m, dict) or m.get("format") != FORMAT:
         raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
     version = _field(m, "version", int, path)
+    if version == ADDRESSED_VERSION and m.get("address") == "crossings":
+        # Its blocks are read through a per-crossing index that the node
+        # group does not build yet (docs/blender-addon.md).
+        raise ClothbakeError("is \"crossings\": a material addressed per crossing is rendered "
+                             "by 'clothbake lookup-render' only for now; for Blender bake it "
+                             "with --address repeat", path, "address")
     if version not in VERSIONS:
         raise ClothbakeError(f"must be {' or '.join(map(str, VERSIONS))} (a newer program wrote "
                              "this material? update the add-on)", path, "version")

@@ -128,6 +128,48 @@ TEST(AddressedMaterial, BlocksAreTheWholeBakeAtTheirRepresentatives) {
   EXPECT_LT(worst, 1e-3 * (1.0 + mean)) << "mean " << mean;
 }
 
+// --members: a block is the mean of its members' marches. On the 2/2 twill
+// (4 ends) a window of 2 crossings either side spans the repeat, so each
+// member's fields are the whole repeat's and its samples the whole bake's:
+// with every member (4 a class) the block is the mean of the whole bake's
+// texels at the class's crossings, to float rounding.
+TEST(AddressedMaterial, MembersAverageTheirCrossings) {
+  const ClothSpec spec = spec_of("twill_2_2", 32);
+  const int T = 2;
+  const Baked whole = bake(spec, settings(MaterialAddress::Repeat, 4 * T));
+  MaterialSettings s = settings(MaterialAddress::Crossings, T);
+  s.context = 2;
+  s.members = 16;
+  const Baked addressed = bake(spec, s);
+  const ClothMaterial& a = addressed.material;
+  const ClothMaterial& w = whole.material;
+  ASSERT_EQ(a.crossings.count(), 4);
+  double worst = 0.0, mean = 0.0, spread = 0.0;
+  int n = 0;
+  for (int b = 0; b < a.crossings.count(); ++b) {
+    const std::vector<CrossingClasses::Crossing> members = a.crossings.members(b, 16);
+    ASSERT_EQ(members.size(), 4u);
+    for (int v = 0; v < a.view_count(); ++v)
+      for (int y = 0; y < T; ++y)
+        for (int x = 0; x < T; ++x)
+          for (int l = 0; l < a.light_count(); l += 2) {
+            V3f want(0.0f);
+            for (const CrossingClasses::Crossing& c : members)
+              want += w.texel_radiance(0, v, l, c.end * T + x, c.pick * T + y) / 4.0f;
+            const CrossingClasses::Crossing r = members.front();
+            spread += double((w.texel_radiance(0, v, l, r.end * T + x, r.pick * T + y) - want).length());
+            worst = std::max(worst, double((a.texel_radiance(0, v, l, x, b * T + y) - want).length()));
+            mean += want.length();
+            ++n;
+          }
+  }
+  mean /= n;
+  spread /= n;
+  ASSERT_GT(mean, 1e-3);
+  EXPECT_GT(spread, 1e-2 * mean) << "the members differ (randomness, noise): the mean is a test";
+  EXPECT_LT(worst, 1e-3 * (1.0 + mean)) << "mean " << mean;
+}
+
 // Shown through shade(): at every point of the repeat, views and lights
 // tried, the addressed material against the whole-repeat bake differs by no
 // more than two whole-repeat bakes of different seeds do (the bake's noise),

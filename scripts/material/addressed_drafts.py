@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""A material addressed per crossing for real WIF drafts, measured as issue 24
+asks (docs/material.md, "Addressed per crossing"):
+
+    scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8]
+                                         [--no-randomness]
+
+For each draft, on the paper scene's folds, camera and lights at 80 warp
+ends per UV:
+  1. the reference: `clothbake render`, 64 spp, a quarter of the march step,
+     no light roulette (timed: the bake's budget is 10 x this render);
+  2. the material: `clothbake material --address crossings --texels T`
+     (timed, one run), its folder's size;
+  3. lookup-render 64 spp from it, against the reference;
+  4. the same material, not baked again, for the cloth in other colours
+     (warp stripes through warp.colors: 4 ends of a blue, 2 of a cream; a
+     green weft), against that cloth's own reference.
+The error is `clothbake compare`'s relative RMSE (RMSE over the reference's
+mean), per pixel and after a 2 x 2 box filter (426 x 266 pixels do not
+divide by 4). Writes WORK_DIR/results.json and, with --chart OUT.png, size
+against error for every run in the WORK_DIRs given.
+
+    scripts/material/addressed_drafts.py --chart OUT.png WORK_DIR...
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+PAPER = os.path.join(ROOT, "testscenes", "paper")
+ENDS_PER_UV = 80
+
+
+def run(cmd):
+    print("  " + " ".join(os.path.basename(c) if i == 0 else c for i, c in enumerate(cmd)),
+          flush=True)
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
+    return time.perf_counter() - t0, p.stdout
+
+
+def compare(exe, ref, img, sheet=None):
+    out = {}
+    for box in (1, 2):
+        cmd = [exe, "compare", ref, img, "--json"] + (["--downsample", str(box)] if box > 1 else [])
+        if sheet and box == 1:
+            cmd += ["--sheet", sheet]
+        _, text = run(cmd)
+        out["pixel" if box == 1 else "box2"] = json.loads(text)["relative_rmse"]
+    return out
+
+
+def folder_bytes(path):
+    return sum(os.path.getsize(os.path.join(path, f)) for f in os.listdir(path))
+
+
+def scene_for(cloth_path, ends, out_path, reference):
+    scene = json.load(open(os.path.join(PAPER, "scene.json")))
+    obj = scene["objects"][0]
+    obj.update(mesh=os.path.join(PAPER, "cloth.obj"), cloth=cloth_path,
+               repeats_per_uv=ENDS_PER_UV / ends)
+    if reference:
+        r = scene.setdefault("render", {})
+        r.update(step_cells=r.get("step_cells", 0.5) / 4, light_roulette=0.0, seed=7)
+    with open(out_path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return out_path
+
+
+def measure(exe, work, wif, texels, spp, no_randomness):
+    name = os.path.splitext(os.path.basename(wif))[0]
+    d = os.path.join(work, name)
+    os.makedirs(d, exist_ok=True)
+    _, text = run([exe, "draft", wif, "-o", os.path.join(d, "draft")])
+    draft = json.load(open(os.path.join(d, "draft", "draft.json")))
+    ends = draft["ends"]
+    res = {"draft": os.path.basename(wif), "threads": [ends, draft["picks"]],
+           "neighbourhoods": draft["neighbourhoods"]["plus_1"], "texels": texels}
+    cloth = {"name": name, "weave": {"wif": os.path.abspath(wif)}}
+    recoloured = {"name": name + "_recoloured", "weave": {"wif": os.path.abspath(wif)},
+                  "warp": {"colors": [[0.08, 0.12, 0.45]] * 4 + [[0.75, 0.7, 0.55]] * 2},
+                  "weft": {"color": [0.1, 0.4, 0.15]}}
+    res["no_randomness"] = no_randomness
+    if no_randomness:
+        for spec in (cloth, recoloured):
+            spec["density"] = {"noise_amplitude": 0.0}
+            spec["shading"] = {"variation": 0.0}
+            for family in ("warp", "weft"):
+                spec.setdefault(family, {})["twist_deg"] = 0.0
+    for key, spec in (("scene", cloth), ("recoloured", recoloured)):
+        path = os.path.join(d, f"cloth_{key}.json")
+        with open(path, "w") as f:
+            json.dump(spec, f, indent=1)
+        scene_for(path, ends, os.path.join(d, f"{key}.json"), False)
+        scene_for(path, ends, os.path.join(d, f"{key}_ref.json"), True)
+    material = os.path.join(d, "material")
+    t, text = run([exe, "material", os.path.join(d, "scene.json"), "-o", material, "--address",
+                   "crossings", "--texels", str(texels), "--quiet"])
+    res["bake_seconds"] = t
+    res["bake_report"] = json.loads(text.strip().splitlines()[-1])
+    res["bytes"] = folder_bytes(material)
+    for key in ("scene", "recoloured"):
+        ref = os.path.join(d, f"{key}_ref.exr")
+        t_ref = None
+        if not os.path.exists(ref):
+            t_ref, _ = run([exe, "render", os.path.join(d, f"{key}_ref.json"), "-o", ref, "--spp",
+                            "64", "--quiet"])
+        img = os.path.join(d, f"{key}_lookup.exr")
+        run([exe, "lookup-render", os.path.join(d, f"{key}.json"), material, "-o", img, "--spp",
+             str(spp), "--quiet"])
+        res[key] = compare(exe, ref, img, os.path.join(d, f"{key}_sheet.png"))
+        if t_ref is not None:
+            res[key]["reference_seconds"] = t_ref
+        print(f"{name} {key}: {res[key]}", flush=True)
+    with open(os.path.join(d, "results.json"), "w") as f:
+        json.dump(res, f, indent=1)
+    return res
+
+
+def chart(out, work_dirs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for work in work_dirs:
+        for name in sorted(os.listdir(work)):
+            p = os.path.join(work, name, "results.json")
+            if not os.path.exists(p):
+                continue
+            r = json.load(open(p))
+            mb = r["bytes"] / 1e6
+            for key, marker in (("scene", "o"), ("recoloured", "s")):
+                ax.plot(mb, 100 * r[key]["pixel"], marker, color="C0" if key == "scene" else "C1")
+            ax.annotate(f"{r['draft']} ({r['threads'][0]}x{r['threads'][1]}, "
+                        f"{r['neighbourhoods']} blocks)", (mb, 100 * r["scene"]["pixel"]),
+                        textcoords="offset points", xytext=(6, 4), fontsize=8)
+    ax.plot([], [], "o", color="C0", label="scene's colours")
+    ax.plot([], [], "s", color="C1", label="recoloured, same material")
+    ax.axhline(8, color="grey", ls=":", lw=1)
+    ax.set_xlabel("material folder (MB)")
+    ax.set_ylabel("relative RMSE per pixel (%)")
+    ax.set_title("addressed per crossing: paper scene, 80 ends per UV, 64 spp")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+
+
+def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "--chart":
+        chart(sys.argv[2], sys.argv[3:])
+        return 0
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("exe")
+    ap.add_argument("work")
+    ap.add_argument("drafts", nargs="+")
+    ap.add_argument("--texels", type=int, default=8, help="texels per crossing side")
+    ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--no-randomness", action="store_true",
+                    help="take the generator's per-crossing randomness out of both cloths "
+                         "(density noise 0, shading variation 0, no ply twist): what is left is "
+                         "the addressing's own error")
+    a = ap.parse_args()
+    exe, work = os.path.abspath(a.exe), os.path.abspath(a.work)
+    os.makedirs(work, exist_ok=True)
+    for wif in a.drafts:
+        measure(exe, work, wif, a.texels, a.spp, a.no_randomness)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
