@@ -15,8 +15,12 @@ nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialE
       {"light_nodes", e.light_nodes}, {"texels", s.texels}, {"spp", s.spp}, {"rays", e.rays},
       {"light_field_bytes", e.light_field_bytes}, {"fixed_bytes", e.fixed_bytes},
       {"max_bytes", e.max_bytes}};
-  if (e.shard.whole()) return report;
   nlohmann::json part = report;
+  if (s.address == MaterialAddress::Crossings) {
+    part["address"] = "crossings";
+    part["marches_per_block"] = e.marches_per_block;
+  }
+  if (e.shard.whole()) return part;
   part["shard"] = {{"part", e.shard.index + 1},
                    {"of", e.shard.count},
                    {"whole_view_nodes", e.whole_view_nodes},
@@ -42,7 +46,12 @@ nlohmann::json material_bake_report_json(const ClothMaterial& m, const MaterialB
       {"uncompressed_mib", stats.uncompressed_values * 2.0 / double(1 << 20)},
       {"max_rank", m.max_rank}, {"mean_rank", rank_sum / double(m.view_count())},
       {"worst_view_error", worst}, {"depth_scale", m.optics.depth_scale}};
-  return report;
+  if (!m.addressed()) return report;
+  nlohmann::json addressed = report;
+  addressed["address"] = "crossings";
+  addressed["blocks"] = m.crossings.count();
+  addressed["crossings"] = m.crossings.ends * m.crossings.picks;
+  return addressed;
 }
 
 }  // namespace clothbake::io
