@@ -134,6 +134,14 @@ void run_material(const MaterialArgs& args) {
   const MaterialInput in = read_input(args, budget);
   const MaterialSource& src = in.source;
   settings.parts = src.parts;
+  if (settings.address == MaterialAddress::Crossings && src.parts != MaterialParts::SpecularWarpWeft)
+    throw InputError("--address", "crossings needs colour-free parts (its blocks and colours come "
+                                  "from the cloth's threads); this bake stores " +
+                                  std::string(args.parts == "rgb" ? "RGB (--parts rgb)"
+                                                                  : "RGB: fibre shading and a cloth "
+                                                                    "made from a spec are needed"));
+  if (settings.address == MaterialAddress::Crossings && !shard.whole())
+    throw InputError("--shard", "a material addressed per crossing is baked whole");
   // R texels span the whole repeat: a draft of many threads leaves few per
   // thread, and below 2 the over-and-under of neighbouring threads falls
   // inside one texel. Said before the work, not refused: the bake is still
