@@ -22,6 +22,8 @@
 #include "io/lookup_io.h"
 #include "io/material_io.h"
 #include "core/material/material_shader.h"
+#include "core/texture/volume_generator.h"
+#include "core/weave/cloth_colours.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
 #include "io/system_info.h"
@@ -54,7 +56,17 @@ void run_material_render(const LookupRenderArgs& args, Scene& scene, uint64_t bu
   if (args.seed >= 0) scene.settings.seed = uint64_t(args.seed);
   std::unique_ptr<Renderer> renderer;
   try {
-    renderer = std::make_unique<Renderer>(scene, budget);
+    // A colour-free material needs of a spec cloth's volume only its
+    // thickness (the patches' slab): the colour-free cloth's, the weave's
+    // repeat, not the colours' (a 6-colour stripe over a 91-end overshot
+    // would otherwise generate 546 ends' cells, 11 GB, for nothing).
+    std::vector<std::shared_ptr<const VolumeTexture>> volumes(scene.objects.size());
+    if (material.colour_parts())
+      for (size_t o = 0; o < scene.objects.size(); ++o)
+        if (!scene.objects[o].volume)
+          volumes[o] = std::make_shared<const VolumeTexture>(
+              generate_volume(colour_free(scene.objects[o].cloth), budget));
+    renderer = std::make_unique<Renderer>(scene, budget, volumes);
   } catch (const InputError& e) {
     throw e.in_file(args.scene);
   }

@@ -3,7 +3,7 @@
 asks (docs/material.md, "Addressed per crossing"):
 
     scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8]
-                                         [--no-randomness]
+                                         [--no-randomness] [--seed-floor]
 
 For each draft, on the paper scene's folds, camera and lights at 80 warp
 ends per UV:
@@ -72,7 +72,7 @@ def scene_for(cloth_path, ends, out_path, reference):
     return out_path
 
 
-def measure(exe, work, wif, texels, spp, no_randomness):
+def measure(exe, work, wif, texels, spp, no_randomness, seed_floor):
     name = os.path.splitext(os.path.basename(wif))[0]
     d = os.path.join(work, name)
     os.makedirs(d, exist_ok=True)
@@ -117,6 +117,20 @@ def measure(exe, work, wif, texels, spp, no_randomness):
         if t_ref is not None:
             res[key]["reference_seconds"] = t_ref
         print(f"{name} {key}: {res[key]}", flush=True)
+    if seed_floor:
+        # The cloth against itself: the same spec with another generator
+        # seed, the same reference settings.
+        spec = dict(cloth, seed=2)
+        path = os.path.join(d, "cloth_seed2.json")
+        with open(path, "w") as f:
+            json.dump(spec, f, indent=1)
+        scene_for(path, ends, os.path.join(d, "seed2_ref.json"), True)
+        ref2 = os.path.join(d, "seed2_ref.exr")
+        if not os.path.exists(ref2):
+            run([exe, "render", os.path.join(d, "seed2_ref.json"), "-o", ref2, "--spp", "64",
+                 "--quiet"])
+        res["seed_floor"] = compare(exe, os.path.join(d, "scene_ref.exr"), ref2)["pixel"]
+        print(f"{name} seed floor: {res['seed_floor']}", flush=True)
     with open(os.path.join(d, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     return res
@@ -134,13 +148,21 @@ def chart(out, work_dirs):
                 continue
             r = json.load(open(p))
             mb = r["bytes"] / 1e6
+            hollow = r.get("no_randomness", False)
             for key, marker in (("scene", "o"), ("recoloured", "s")):
-                ax.plot(mb, 100 * r[key]["pixel"], marker, color="C0" if key == "scene" else "C1")
+                colour = "C0" if key == "scene" else "C1"
+                ax.plot(mb, 100 * r[key]["pixel"], marker, color=colour,
+                        markerfacecolor="none" if hollow else colour)
             ax.annotate(f"{r['draft']} ({r['threads'][0]}x{r['threads'][1]}, "
-                        f"{r['neighbourhoods']} blocks)", (mb, 100 * r["scene"]["pixel"]),
-                        textcoords="offset points", xytext=(6, 4), fontsize=8)
+                        f"{r['neighbourhoods']} blocks)" + (", no randomness" if hollow else ""),
+                        (mb, 100 * r["scene"]["pixel"]), textcoords="offset points",
+                        xytext=(6, 4), fontsize=7)
+            if "seed_floor" in r:
+                ax.plot(mb, 100 * r["seed_floor"], "x", color="grey")
     ax.plot([], [], "o", color="C0", label="scene's colours")
     ax.plot([], [], "s", color="C1", label="recoloured, same material")
+    ax.plot([], [], "o", color="grey", markerfacecolor="none", label="cloth without randomness")
+    ax.plot([], [], "x", color="grey", label="the cloth against itself, another seed")
     ax.axhline(8, color="grey", ls=":", lw=1)
     ax.set_xlabel("material folder (MB)")
     ax.set_ylabel("relative RMSE per pixel (%)")
@@ -167,11 +189,15 @@ def main():
                     help="take the generator's per-crossing randomness out of both cloths "
                          "(density noise 0, shading variation 0, no ply twist): what is left is "
                          "the addressing's own error")
+    ap.add_argument("--seed-floor", action="store_true",
+                    help="also render the reference with the cloth's generator seed 2: the "
+                         "cloth's own variation, which no material sharing a crossing's "
+                         "randomness among others can go below")
     a = ap.parse_args()
     exe, work = os.path.abspath(a.exe), os.path.abspath(a.work)
     os.makedirs(work, exist_ok=True)
     for wif in a.drafts:
-        measure(exe, work, wif, a.texels, a.spp, a.no_randomness)
+        measure(exe, work, wif, a.texels, a.spp, a.no_randomness, a.seed_floor)
     return 0
 
 
