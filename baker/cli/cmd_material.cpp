@@ -280,6 +280,14 @@ void register_material_command(CLI::App& app, Action action) {
                   "fields span")
       ->check(CLI::Range(k_min_material_context, k_max_material_context))
       ->capture_default_str();
+  std::map<std::string, CrossingStencil> stencils;
+  for (const auto& [name, st] : io::k_crossing_stencil_names) stencils[name] = st;
+  cmd->add_option("--stencil", s.stencil,
+                  "--address crossings: what makes two crossings one block: their plus-1 "
+                  "stencil, or their 3 x 3 window (about 3 x the blocks; the neighbouring "
+                  "threads' crossings, which grazing rays see)")
+      ->transform(CLI::CheckedTransformer(stencils))
+      ->default_str(io::enum_name(io::k_crossing_stencil_names, s.stencil));
   cmd->add_option("--members", s.members,
                   "--address crossings: crossings of each class a block averages, spread over "
                   "the class (1: its first crossing alone; more average the crossings' own "

@@ -47,6 +47,11 @@ inline constexpr std::array<std::pair<const char*, MaterialAddress>, 2> k_materi
     {"repeat", MaterialAddress::Repeat},
     {"crossings", MaterialAddress::Crossings},
 }};
+/// What makes two crossings one class of an addressed material.
+inline constexpr std::array<std::pair<const char*, CrossingStencil>, 2> k_crossing_stencil_names{{
+    {"plus-1", CrossingStencil::Plus1},
+    {"3x3", CrossingStencil::Square1},
+}};
 inline constexpr std::array<std::pair<const char*, DirectionMap>, 2> k_light_map_flags{{
     {"horizon", DirectionMap::HemiOctahedralHorizon},
     {"square", DirectionMap::HemiOctahedral},

@@ -106,6 +106,7 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
                       {"blocks", m.crossings.count()},
                       {"context", s.context},
                       {"members", s.members},
+                      {"stencil", enum_name(k_crossing_stencil_names, s.stencil)},
                       {"file", k_crossings_file}};
   }
   j["directions"] = s.directions;
@@ -236,6 +237,8 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
     if (!top.has("crossings")) top.fail("crossings", "is missing (the material is addressed per crossing)");
     top.object("crossings").read("context", s.context);
     top.object("crossings").read("members", s.members);
+    s.stencil = CrossingStencil::Plus1;  // before the 3 x 3 stencil
+    read_enum(top.object("crossings"), "stencil", k_crossing_stencil_names, s.stencil);
   }
   try {
     check_material_settings(s);

@@ -12,6 +12,7 @@
 #include "core/bake/direction_grid.h"
 #include "core/fiber/fiber_model.h"
 #include "core/march/march_settings.h"
+#include "core/weave/crossing_neighbourhoods.h"
 
 namespace clothbake {
 
@@ -75,6 +76,8 @@ struct MaterialSettings {
   /// Addressed per crossing: crossings either side of a block's that its
   /// light fields span.
   int context = 2;
+  /// Addressed per crossing: what makes two crossings one class (one block).
+  CrossingStencil stencil = CrossingStencil::Plus1;
   /// Addressed per crossing: crossings of each class the block averages,
   /// spread over the class (1: its representative alone).
   int members = 1;

@@ -47,9 +47,19 @@ void plus1_key(std::string& key, const Drawdown& dd, const ClothSpec& spec,
   for (int d = -1; d <= 1; ++d) append_thread(key, spec.weft, picks, p + d);
 }
 
+/// The square key of radius r: the (2r + 1)^2 window and its threads.
+void square_key(std::string& key, const Drawdown& dd, const ClothSpec& spec,
+                const ThreadLayout& ends, const ThreadLayout& picks, int e, int p, int r) {
+  key.clear();
+  for (int dp = -r; dp <= r; ++dp)
+    for (int de = -r; de <= r; ++de) key += dd.up(p + dp, e + de);
+  for (int d = -r; d <= r; ++d) append_thread(key, spec.warp, ends, e + d);
+  for (int d = -r; d <= r; ++d) append_thread(key, spec.weft, picks, p + d);
+}
+
 }  // namespace
 
-CrossingClasses crossing_classes(const ClothSpec& spec) {
+CrossingClasses crossing_classes(const ClothSpec& spec, CrossingStencil stencil) {
   const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends = thread_layout(spec, draft, true);
   const ThreadLayout picks = thread_layout(spec, draft, false);
@@ -62,7 +72,10 @@ CrossingClasses crossing_classes(const ClothSpec& spec) {
   std::string key;
   for (int p = 0; p < out.picks; ++p)
     for (int e = 0; e < out.ends; ++e) {
-      plus1_key(key, dd, spec, ends, picks, e, p);
+      if (stencil == CrossingStencil::Plus1)
+        plus1_key(key, dd, spec, ends, picks, e, p);
+      else
+        square_key(key, dd, spec, ends, picks, e, p, 1);
       const auto [it, added] = seen.emplace(key, out.count());
       if (added) out.representative.push_back({e, p});
       out.class_of[size_t(p) * size_t(out.ends) + size_t(e)] = it->second;
@@ -103,11 +116,7 @@ NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
       plus1_key(key, dd, spec, ends, picks, e, p);
       plus.insert(key);
       for (int r = 1; r <= 3; ++r) {
-        key.clear();
-        for (int dp = -r; dp <= r; ++dp)
-          for (int de = -r; de <= r; ++de) key += up(p + dp, e + de);
-        for (int d = -r; d <= r; ++d) append_thread(key, spec.warp, ends, e + d);
-        for (int d = -r; d <= r; ++d) append_thread(key, spec.weft, picks, p + d);
+        square_key(key, dd, spec, ends, picks, e, p, r);
         square[size_t(r - 1)].insert(key);
       }
     }

@@ -54,9 +54,15 @@ struct CrossingClasses {
   }
 };
 
-/// The plus-1 classes of `colour_free_spec` (already colour_free(): its
-/// threads are the material's), over its thread layouts' repeat.
-CrossingClasses crossing_classes(const ClothSpec& colour_free_spec);
+/// What makes two crossings one class: the plus-1 stencil, or the square
+/// window of radius 1 (3 x 3 crossings: the neighbouring ends' and picks'
+/// crossings too, which grazing view and shadow rays reach).
+enum class CrossingStencil { Plus1, Square1 };
+
+/// The classes of `colour_free_spec` (already colour_free(): its threads are
+/// the material's) by `stencil`, over its thread layouts' repeat.
+CrossingClasses crossing_classes(const ClothSpec& colour_free_spec,
+                                 CrossingStencil stencil = CrossingStencil::Plus1);
 
 /// The counts of `spec`'s weave (deterministic; about a second for a 641 x 641
 /// repeat).

@@ -83,6 +83,9 @@ TEST(CrossingClasses, NamedWeavesHoldTheirPlus1Counts) {
     EXPECT_EQ(c.ends, ends) << pattern;
     EXPECT_EQ(c.count(), classes) << pattern;
     EXPECT_EQ(c.count(), crossing_neighbourhoods(spec).plus1) << pattern;
+    EXPECT_EQ(crossing_classes(spec, CrossingStencil::Square1).count(),
+              crossing_neighbourhoods(spec).square[0])
+        << pattern;
     // Each class's representative is its first crossing, pick-major.
     for (int b = 0; b < c.count(); ++b) {
       const CrossingClasses::Crossing r = c.representative[size_t(b)];
