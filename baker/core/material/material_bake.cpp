@@ -219,27 +219,32 @@ std::vector<BlockWindow> block_windows(const ClothMaterial& material, const Volu
   return out;
 }
 
+uint64_t material_field_bytes(const ClothMaterial& material, const VolumeTexture& volume) {
+  const MaterialLayout layout = material.layout();
+  const int s = material.settings.field_supersample;
+  if (!material.addressed()) return LightFieldSet::bytes_for(volume, layout.light_count(), s);
+  // One window's fields at a time.
+  uint64_t fields = 0;
+  for (const BlockWindow& b : block_windows(material, volume))
+    fields = std::max<uint64_t>(
+        fields, LightFieldSet::bytes_for_window(volume, b.cells_x, b.cells_y, layout.light_count(), s));
+  return fields;
+}
+
 uint64_t material_bake_fixed_bytes(const ClothMaterial& material, const VolumeTexture& volume,
                                    int threads) {
   const MaterialLayout layout = material.layout();
   const MaterialSettings& s = material.settings;
-  uint64_t fields = 0;
-  if (material.addressed()) {
-    // One window's fields at a time; every view node's matrix (level 0 by
-    // the light nodes) and fibre table held across the blocks.
-    for (const BlockWindow& b : block_windows(material, volume))
-      fields = std::max<uint64_t>(
-          fields, LightFieldSet::bytes_for_window(volume, b.cells_x, b.cells_y,
-                                                  layout.light_count(), s.field_supersample));
-    const uint64_t k = tabulates_fiber(s, material.optics) ? uint64_t(s.fiber_tangent_nodes) : 0;
-    return fields + uint64_t(layout.view_count()) *
-                        (layout.level_texels(0) * (uint64_t(layout.channels) * layout.light_count() + 1) +
-                         k * k * layout.light_count() * 2) *
-                        sizeof(float);
-  } else {
-    fields = LightFieldSet::bytes_for(volume, layout.light_count(), s.field_supersample);
-  }
-  return fields + uint64_t(std::max(threads, 1)) * layout.view_matrix_bytes();
+  const uint64_t fields = material_field_bytes(material, volume);
+  if (!material.addressed())
+    return fields + uint64_t(std::max(threads, 1)) * layout.view_matrix_bytes();
+  // Every view node's matrix (level 0 by the light nodes) and fibre table,
+  // held across the blocks.
+  const uint64_t k = tabulates_fiber(s, material.optics) ? uint64_t(s.fiber_tangent_nodes) : 0;
+  return fields + uint64_t(layout.view_count()) *
+                      (layout.level_texels(0) * (uint64_t(layout.channels) * layout.light_count() + 1) +
+                       k * k * layout.light_count() * 2) *
+                      sizeof(float);
 }
 
 namespace {
@@ -402,7 +407,7 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   std::vector<V3f> light_texture(light_local.size());
   for (size_t n = 0; n < light_local.size(); ++n)
     light_texture[n] = material.texture_from_material(light_local[n]);
-  const uint64_t fields_bytes = material_bake_fixed_bytes(material, volume, 0);
+  const uint64_t fields_bytes = material_field_bytes(material, volume);
   if (fields_bytes > memory_budget)
     throw InputError("memory", "the light fields need " + std::to_string(fields_bytes >> 20) +
                                    " MiB, over the budget of " +

@@ -53,6 +53,10 @@ std::vector<BlockWindow> block_windows(const ClothMaterial& material, const Volu
 BlockWindow crossing_window(const ClothMaterial& material, const VolumeTexture& volume,
                             const CrossingClasses::Crossing& c);
 
+/// The light fields the bake holds at once: the whole repeat's, or the
+/// largest block window's when addressed.
+uint64_t material_field_bytes(const ClothMaterial& material, const VolumeTexture& volume);
+
 /// Bytes the bake holds before the factorised table grows: the light fields
 /// (the blocks' windows when addressed) and one view's matrix per thread.
 /// `material`: unbaked_material with its cloth set.

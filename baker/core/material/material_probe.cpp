@@ -227,7 +227,7 @@ MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& 
   const MaterialLayout layout = material.layout();
   e.view_nodes = layout.view_count();
   e.light_nodes = layout.light_count();
-  e.light_field_bytes = material_bake_fixed_bytes(material, volume, 0);
+  e.light_field_bytes = material_field_bytes(material, volume);
   e.fixed_bytes = material_bake_fixed_bytes(material, volume, threads);
   e.max_bytes = layout.table_bytes(e.light_nodes);
 
