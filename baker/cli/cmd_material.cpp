@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -37,6 +39,20 @@
 #include "io/text_file.h"
 
 namespace clothbake::cli {
+
+namespace {
+/// An option whose value is one of an enum's spellings (io/enum_names.h),
+/// checked by CLI11 and shown with its default's spelling.
+template <typename E, std::size_t N>
+CLI::Option* add_enum_option(CLI::App* cmd, const std::string& flag, E& value,
+                             const io::EnumNames<E, N>& names, const std::string& help) {
+  std::map<std::string, E> map;
+  for (const auto& [name, v] : names) map[name] = v;
+  return cmd->add_option(flag, value, help)
+      ->transform(CLI::CheckedTransformer(map))
+      ->default_str(io::enum_name(names, value));
+}
+}  // namespace
 
 namespace {
 struct MaterialArgs {
@@ -257,37 +273,30 @@ void register_material_command(CLI::App& app, Action action) {
   cmd->add_option("--field-supersample", s.field_supersample, "light-field points per cell edge")
       ->check(CLI::Range(k_min_field_supersample, k_max_field_supersample))
       ->capture_default_str();
-  std::map<std::string, DirectionMap> light_maps;
-  for (const auto& [name, map] : io::k_light_map_flags) light_maps[name] = map;
-  cmd->add_option("--light-map", s.light_map,
-                  "light nodes: drawn toward the horizon, or the plain hemi-octahedral square")
-      ->transform(CLI::CheckedTransformer(light_maps))
-      ->default_str(io::enum_name(io::k_light_map_flags, s.light_map));
+  add_enum_option(cmd, "--light-map", s.light_map, io::k_light_map_flags,
+                  "light nodes: drawn toward the horizon, or the plain hemi-octahedral square");
+  add_enum_option(cmd, "--light-fields", s.light_fields, io::k_light_field_names,
+                  "how the bake reads light toward each sample: interpolated between the "
+                  "cells' centres, or marched through the sample's own layer (right where "
+                  "cells are opaque, about 6 x the march's time); auto: layer-march when "
+                  "sigma x the densest cell's rho x a field cell's edge exceeds 1");
   cmd->add_flag("--view-parallax,!--no-view-parallax", s.view_parallax,
                "read each view node where its ray meets the eye's at a depth fitted to the "
                "material (sharper weave between view nodes of a thick cloth)")
       ->capture_default_str();
-  std::map<std::string, MaterialAddress> addresses;
-  for (const auto& [name, a] : io::k_material_address_names) addresses[name] = a;
-  cmd->add_option("--address", s.address,
+  add_enum_option(cmd, "--address", s.address, io::k_material_address_names,
                   "what the texels cover: the whole repeat (--texels per repeat side), or one "
                   "block per distinct crossing neighbourhood, addressed per crossing (--texels "
-                  "per crossing side): its size follows the weave's variety, not its repeat")
-      ->transform(CLI::CheckedTransformer(addresses))
-      ->default_str(io::enum_name(io::k_material_address_names, s.address));
+                  "per crossing side): its size follows the weave's variety, not its repeat");
   cmd->add_option("--context", s.context,
                   "--address crossings: crossings either side of a block's that its light "
                   "fields span")
       ->check(CLI::Range(k_min_material_context, k_max_material_context))
       ->capture_default_str();
-  std::map<std::string, CrossingStencil> stencils;
-  for (const auto& [name, st] : io::k_crossing_stencil_names) stencils[name] = st;
-  cmd->add_option("--stencil", s.stencil,
+  add_enum_option(cmd, "--stencil", s.stencil, io::k_crossing_stencil_names,
                   "--address crossings: what makes two crossings one block: their plus-1 "
                   "stencil, or their 3 x 3 window (about 3 x the blocks; the neighbouring "
-                  "threads' crossings, which grazing rays see)")
-      ->transform(CLI::CheckedTransformer(stencils))
-      ->default_str(io::enum_name(io::k_crossing_stencil_names, s.stencil));
+                  "threads' crossings, which grazing rays see)");
   cmd->add_option("--members", s.members,
                   "--address crossings: crossings of each class a block averages, spread over "
                   "the class (1: its first crossing alone; more average the crossings' own "

@@ -52,6 +52,13 @@ inline constexpr std::array<std::pair<const char*, CrossingStencil>, 2> k_crossi
     {"plus-1", CrossingStencil::Plus1},
     {"3x3", CrossingStencil::Square1},
 }};
+/// How a material's light fields are read (core/material/light_fields.h), in
+/// its manifest and on `clothbake material --light-fields`.
+inline constexpr std::array<std::pair<const char*, LightFieldMethod>, 3> k_light_field_names{{
+    {"auto", LightFieldMethod::Auto},
+    {"interpolated", LightFieldMethod::Interpolated},
+    {"layer-march", LightFieldMethod::LayerMarch},
+}};
 inline constexpr std::array<std::pair<const char*, DirectionMap>, 2> k_light_map_flags{{
     {"horizon", DirectionMap::HemiOctahedralHorizon},
     {"square", DirectionMap::HemiOctahedral},

@@ -116,6 +116,10 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
   j["spp"] = s.spp;
   j["max_error"] = s.max_error;
   j["field_supersample"] = s.field_supersample;
+  // Written where it is not the method every material before it used, so
+  // that an interpolated material's manifest keeps its bytes.
+  if (s.light_fields == LightFieldMethod::LayerMarch)
+    j["light_fields"] = enum_name(k_light_field_names, s.light_fields);
   j["fiber_tangent_nodes"] = s.fiber_tangent_nodes;
   j["view_parallax"] = s.view_parallax;
   j["parallax_depth_mm"] = m.parallax_depth_mm;
@@ -217,6 +221,8 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   top.read("max_error", s.max_error);
   top.read("seed", s.seed);
   top.read("field_supersample", s.field_supersample);
+  s.light_fields = LightFieldMethod::Interpolated;  // absent: how every older material was baked
+  read_enum(top, "light_fields", k_light_field_names, s.light_fields);
   s.light_map = DirectionMap::HemiOctahedral;  // manifests older than the horizon map
   read_enum(top, "light_direction_map", k_light_map_names, s.light_map);
   top.read("fiber_tangent_nodes", s.fiber_tangent_nodes);

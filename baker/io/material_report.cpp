@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "io/enum_names.h"
+
 namespace clothbake::io {
 
 nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialEstimate& e,
@@ -45,7 +47,8 @@ nlohmann::json material_bake_report_json(const ClothMaterial& m, const MaterialB
       {"light_field_mib", double(stats.field_bytes) / double(1 << 20)},
       {"uncompressed_mib", stats.uncompressed_values * 2.0 / double(1 << 20)},
       {"max_rank", m.max_rank}, {"mean_rank", rank_sum / double(m.view_count())},
-      {"worst_view_error", worst}, {"depth_scale", m.optics.depth_scale}};
+      {"worst_view_error", worst}, {"depth_scale", m.optics.depth_scale},
+      {"light_fields", enum_name(k_light_field_names, m.settings.light_fields)}};
   if (!m.addressed()) return report;
   nlohmann::json addressed = report;
   addressed["address"] = "crossings";

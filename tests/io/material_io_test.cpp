@@ -79,6 +79,10 @@ TEST(MaterialIo, RoundTrip) {
   EXPECT_EQ(r.light_factors, m.light_factors);
   EXPECT_EQ(r.optics.depth_scale, m.optics.depth_scale);
   EXPECT_EQ(r.repeat_mm, m.repeat_mm);
+  // The coarse grid's cells are opaque (40 / mm x 1/16 mm: 2.5 per field
+  // cell): auto baked it by the layer march, and the manifest says so.
+  EXPECT_EQ(m.settings.light_fields, LightFieldMethod::LayerMarch);
+  EXPECT_EQ(r.settings.light_fields, LightFieldMethod::LayerMarch);
   for (int l = 0; l < m.levels(); ++l) {
     ASSERT_EQ(r.coefficients[l].size(), m.coefficients[l].size());
     for (size_t i = 0; i < m.coefficients[l].size(); ++i)

@@ -114,6 +114,11 @@ ClothMaterial unbaked_material(const VolumeTexture& volume, const MaterialOptics
   m.view_grid.k = settings.directions;
   m.light_grid.k = settings.light_directions;
   m.light_grid.map = settings.light_map;
+  // Auto is settled here, once, from the cloth: every field, estimate and
+  // manifest reads the method the bake used.
+  m.settings.light_fields = LightFieldSet::resolve(settings.light_fields, volume,
+                                                   optics.extinction_per_mm,
+                                                   settings.field_supersample);
   return m;
 }
 
@@ -222,12 +227,15 @@ std::vector<BlockWindow> block_windows(const ClothMaterial& material, const Volu
 uint64_t material_field_bytes(const ClothMaterial& material, const VolumeTexture& volume) {
   const MaterialLayout layout = material.layout();
   const int s = material.settings.field_supersample;
-  if (!material.addressed()) return LightFieldSet::bytes_for(volume, layout.light_count(), s);
+  const LightFieldMethod method = material.settings.light_fields;
+  if (!material.addressed())
+    return LightFieldSet::bytes_for(volume, layout.light_count(), s, method);
   // One window's fields at a time.
   uint64_t fields = 0;
   for (const BlockWindow& b : block_windows(material, volume))
     fields = std::max<uint64_t>(
-        fields, LightFieldSet::bytes_for_window(volume, b.cells_x, b.cells_y, layout.light_count(), s));
+        fields, LightFieldSet::bytes_for_window(volume, b.cells_x, b.cells_y, layout.light_count(), s,
+                                                method));
   return fields;
 }
 
@@ -455,7 +463,8 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
         const BlockWindow w = crossing_window(material, volume, c);
         const LightFieldSet fields =
             LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, light_texture,
-                                        optics.extinction_per_mm, settings.field_supersample);
+                                        optics.extinction_per_mm, settings.field_supersample,
+                                        material.settings.light_fields);
         field_bytes_built = std::max<uint64_t>(field_bytes_built, fields.bytes());
         tbb::parallel_for(0, n_views, [&](int i) {
           const int view = views[size_t(i)];
@@ -484,8 +493,9 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   } else {
     // Steps 2 and 3, per view node: march every texel for all light nodes,
     // then factorise.
-    const LightFieldSet fields = LightFieldSet::build(volume, light_texture, optics.extinction_per_mm,
-                                                      settings.field_supersample);
+    const LightFieldSet fields =
+        LightFieldSet::build(volume, light_texture, optics.extinction_per_mm,
+                             settings.field_supersample, material.settings.light_fields);
     field_bytes_built = fields.bytes();
     tbb::parallel_for(0, n_views, [&](int i) {
       if (over_budget) return;

@@ -78,11 +78,11 @@ ProbeLights probe_fields(const ClothMaterial& material, const VolumeTexture& vol
   e.marches_per_block = windows.empty() ? 1.0 : blocks / double(windows.size());
   const auto t0 = Clock::now();
   p.fields_p = LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y, p.texture,
-                                           sigma, s.field_supersample);
+                                           sigma, s.field_supersample, s.light_fields);
   e.fields_seconds = seconds_since(t0) * double(L) / double(P) * blocks;
   p.fields_1 = LightFieldSet::build_window(volume, w.x0, w.y0, w.cells_x, w.cells_y,
                                            std::span(p.texture).first(1), sigma,
-                                           s.field_supersample);
+                                           s.field_supersample, s.light_fields);
   return p;
 }
 
