@@ -25,23 +25,10 @@ against error for every run in the WORK_DIRs given.
 import argparse
 import json
 import os
-import subprocess
 import sys
-import time
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-PAPER = os.path.join(ROOT, "testscenes", "paper")
+from paper_runs import run, write_paper_scene
 ENDS_PER_UV = 80
-
-
-def run(cmd):
-    print("  " + " ".join(os.path.basename(c) if i == 0 else c for i, c in enumerate(cmd)),
-          flush=True)
-    t0 = time.perf_counter()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
-    return time.perf_counter() - t0, p.stdout
 
 
 def compare(exe, ref, img, sheet=None):
@@ -60,16 +47,7 @@ def folder_bytes(path):
 
 
 def scene_for(cloth_path, ends, out_path, reference):
-    scene = json.load(open(os.path.join(PAPER, "scene.json")))
-    obj = scene["objects"][0]
-    obj.update(mesh=os.path.join(PAPER, "cloth.obj"), cloth=cloth_path,
-               repeats_per_uv=ENDS_PER_UV / ends)
-    if reference:
-        r = scene.setdefault("render", {})
-        r.update(step_cells=r.get("step_cells", 0.5) / 4, light_roulette=0.0, seed=7)
-    with open(out_path, "w") as f:
-        json.dump(scene, f, indent=1)
-    return out_path
+    return write_paper_scene(cloth_path, ENDS_PER_UV / ends, out_path, reference)
 
 
 def measure(exe, work, wif, texels, spp, no_randomness, seed_floor):

@@ -19,12 +19,9 @@ the image's mean over the reference's. Writes WORK_DIR/results.json; with
 import argparse
 import json
 import os
-import subprocess
 import sys
-import time
 
-ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-PAPER = os.path.join(ROOT, "testscenes", "paper")
+from paper_runs import run, write_paper_scene
 YARN = {"twist_deg": 0.0, "spacing_mm": 2.12, "width_mm": 2.12, "thickness_mm": 0.87,
         "color": [0.6, 0.45, 0.3]}
 METHODS = [("interpolated, 1 point per cell edge", ["--light-fields", "interpolated",
@@ -32,16 +29,6 @@ METHODS = [("interpolated, 1 point per cell edge", ["--light-fields", "interpola
            ("interpolated, 2 (the default before)", ["--light-fields", "interpolated"]),
            ("interpolated, 4", ["--light-fields", "interpolated", "--field-supersample", "4"]),
            ("layer march, 2 (auto here)", ["--light-fields", "layer-march"])]
-
-
-def run(cmd):
-    print("  " + " ".join(os.path.basename(c) if i == 0 else c for i, c in enumerate(cmd)),
-          flush=True)
-    t0 = time.perf_counter()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
-    return time.perf_counter() - t0, p.stdout
 
 
 def mean_ratio(ref, img):
@@ -61,14 +48,8 @@ def measure(exe, work):
     with open(cloth_path, "w") as f:
         json.dump(cloth, f, indent=1)
     for ref in (False, True):
-        scene = json.load(open(os.path.join(PAPER, "scene.json")))
-        scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth=cloth_path,
-                                   repeats_per_uv=40)
-        if ref:
-            r = scene.setdefault("render", {})
-            r.update(step_cells=r.get("step_cells", 0.5) / 4, light_roulette=0.0, seed=7)
-        with open(os.path.join(work, "ref.json" if ref else "scene.json"), "w") as f:
-            json.dump(scene, f, indent=1)
+        write_paper_scene(cloth_path, 40, os.path.join(work, "ref.json" if ref else "scene.json"),
+                          ref)
     ref = os.path.join(work, "ref.exr")
     if not os.path.exists(ref):
         run([exe, "render", os.path.join(work, "ref.json"), "-o", ref, "--spp", "64", "--quiet"])
