@@ -330,9 +330,10 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     owner = f" for {obj.name}" if strips is not None else ""
     next_img = load_data_image(pack.next_coefficients, half=True) if strips is not None \
         else None
+    index_img = load_data_image(pack.crossings, half=False) if pack.crossings else None
     group = build_group(f"clothbake material {info.name or 'cloth'} {key} {len(lights)}L"
                         f"{layout_suffix(kinds)} {route}{owner}", info, pack, coeff, lights_img,
-                        kinds, route, strips, next_img)
+                        kinds, route, strips, next_img, index_img)
 
     name = f"clothbake material {obj.name}"
     material = bpy.data.materials.get(name) or bpy.data.materials.new(name)

@@ -26,7 +26,7 @@ import numpy as np
 from ..core import wif_cloth, yarn_colours
 from ..core.cloth_fields import WIF
 from ..core.errors import ClothbakeError
-from ..core.material_manifest import FAMILIES
+from ..core.material_manifest import CROSSINGS, FAMILIES
 from .material_nodes import Strips
 
 STRIPS_KEY = "clothbake_strips"   # on the material: JSON of what its strips are made from
@@ -88,17 +88,27 @@ def make_strips(obj, info):
     for axis, f in enumerate(FAMILIES):
         colour, seq = colours[f]
         centres = info.centres_mm[f]
+        texels, levels = info.texels, info.levels
+        if info.address == CROSSINGS:
+            # A tap lies in one crossing and takes its threads' colours:
+            # one column a thread, its span exactly (evenly spaced threads,
+            # laid from 0: material_nodes._crossing_address counts them so),
+            # and one level.
+            n = len(centres)
+            texels, levels = n, 1
+            centres = [(i + 0.5) * info.repeat_mm[axis] / n for i in range(n)]
         q = yarn_colours.strip_repeats(len(centres), len(seq) or 1)
-        width, rows, height = yarn_colours.strip_layout(q, info.texels, info.levels)
+        width, rows, height = yarn_colours.strip_layout(q, texels, levels)
         if height > 16384:
             raise ClothbakeError(f"{f} colours: {len(seq)} per-thread colours over "
                                  f"{len(centres)} threads repeat every {q} material repeats, "
-                                 f"a colour strip of {q * info.texels} texels: too large for "
+                                 f"a colour strip of {q * texels} texels: too large for "
                                  "Blender's images; bake the material at fewer texels")
         image = _strip_image(f"clothbake {f} colours {obj.name}", width, height)
         made[f] = (image, q, rows)
         keep[f] = {"centres_mm": centres, "repeat_mm": info.repeat_mm[axis], "q": q,
-                   "sequence": len(seq), "width": width, "rows": rows, "image": image.name}
+                   "sequence": len(seq), "width": width, "rows": rows, "image": image.name,
+                   "texels": texels, "levels": levels}
     strips = Strips(made["warp"][0], made["weft"][0], made["warp"][1], made["weft"][1],
                     made["warp"][2], made["weft"][2])
     return strips, json.dumps(keep)
@@ -136,7 +146,8 @@ def refresh_material(material, obj, baked=None):
             continue
         strips = yarn_colours.family_strips(k["centres_mm"], k["repeat_mm"],
                                             yarn_colours.family_colours(colour, seq),
-                                            keep["texels"], keep["levels"])
+                                            k.get("texels", keep["texels"]),
+                                            k.get("levels", keep["levels"]))
         px = yarn_colours.strip_pixels(strips, k["width"], k["rows"])
         image.pixels.foreach_set(px.ravel())
         image.update()

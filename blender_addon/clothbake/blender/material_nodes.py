@@ -353,8 +353,12 @@ def _parallax_shift(g, info, scaled, vi, vj):
 
 def _level(g, gin, info, position, vz, xi):
     """Step 3: the level from the footprint, picked stochastically between
-    the two around it; returns (S_L, P_L, Y_L) of the pack's layout and L."""
+    the two around it; returns (S_L, P_L across, Y_L, L, P_L up) of the
+    pack's layout (the pitches differ for a material addressed per
+    crossing: its tiles hold bx x by blocks)."""
     k, r = info.k, info.texels
+    bx, by = info.block_grid
+    per_repeat = r * info.threads_per_repeat[0]   # level-0 texels per repeat along x
     cam_point = g.node("ShaderNodeVectorTransform", 4, vector_type="POINT",
                        convert_from="WORLD", convert_to="CAMERA")
     g.feed(cam_point.inputs["Vector"], position)
@@ -367,8 +371,9 @@ def _level(g, gin, info, position, vz, xi):
     missing = g.math("LESS_THAN", local.outputs["Fac"], 1e-12, column=5)
     world_per_uv = g.math("MULTIPLY_ADD", missing, gin["World per UV"], local.outputs["Fac"],
                           column=5)
-    texels_per_world = g.math("DIVIDE", g.math("MULTIPLY", gin["Repeats per UV"], float(r),
-                                               column=5), world_per_uv, column=5)
+    texels_per_world = g.math("DIVIDE", g.math("MULTIPLY", gin["Repeats per UV"],
+                                               float(per_repeat), column=5), world_per_uv,
+                              column=5)
     footprint = g.math("MULTIPLY", g.math("MULTIPLY", distance, gin["Pixel angle"], column=6),
                        texels_per_world, column=6)
     footprint = g.math("DIVIDE", footprint, g.math("SQRT", cos_view, column=6), column=6)
@@ -381,11 +386,14 @@ def _level(g, gin, info, position, vz, xi):
                    float(info.levels - 1), column=8)
     half_pow = g.math("POWER", 0.5, level, column=8)
     side_texels = g.math("MULTIPLY", half_pow, float(r), column=9)           # S_L
-    pitch = g.math("ADD", side_texels, 2.0, column=9)                        # P_L
+    pitch = g.math("ADD", side_texels, 2.0, column=9) if bx == 1 else \
+        g.math("MULTIPLY_ADD", side_texels, float(bx), 2.0, column=9)        # P_L across
+    pitch_up = pitch if by == bx else \
+        g.math("MULTIPLY_ADD", side_texels, float(by), 2.0, column=9)        # P_L up
     y_level = g.math("MULTIPLY", g.math("ADD", g.math("MULTIPLY", g.math(
-        "SUBTRACT", 1.0, half_pow, column=9), 2.0 * r, column=9), g.math(
+        "SUBTRACT", 1.0, half_pow, column=9), 2.0 * r * by, column=9), g.math(
         "MULTIPLY", level, 2.0, column=9), column=9), 2.0 * k, column=10)   # Y_L
-    return side_texels, pitch, y_level, level
+    return side_texels, pitch, y_level, level, pitch_up
 
 
 def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
@@ -394,7 +402,7 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
     Texel: where the pick landed, for the colour strips). `shift`: the view
     node's parallax shift in repeats (_parallax_shift), or None."""
     vi, view_row = view
-    side_texels, pitch, y_level, level_index = level
+    side_texels, pitch, y_level, level_index, _ = level
     ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
     if shift is not None:
         ux = g.math("ADD", ux, shift[0], column=7)
@@ -418,6 +426,62 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
     step = g.combine(g.math("MULTIPLY", pitch, float(k) / pack.width, column=12),
                      float(pack.band) / pack.height, 0.0, column=12)
     return uv0, step, Texel(ux, uy, tx, ty, side_texels, level_index)
+
+
+def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, shift=None):
+    """Steps 2 and 4 for a material addressed per crossing
+    (docs/material-format.md, "Addressed per crossing"): every crossing
+    spans S_L texels whatever its width, the stochastic bilinear pick is a
+    tap counted in crossings and texels over all repeats, and the tap's
+    crossing (wrapped into the repeat) reads its block from the index image
+    (the pack's crossings.exr: block, its column and row in the tile's grid
+    of blocks). Returns (uv0, the step to component k, the taps' crossings
+    over all repeats (end, pick): the threads whose colours they take).
+    Threads are evenly spaced (material_manifest refuses others): crossing
+    coordinate n u - offset, offset the first thread's centre over its
+    pitch less 1/2 (its span starts half a pitch before it)."""
+    vi, view_row = view
+    side_texels, pitch, y_level, _, pitch_up = level
+    ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
+    if shift is not None:
+        ux = g.math("ADD", ux, shift[0], column=7)
+        uy = g.math("ADD", uy, shift[1], column=7)
+
+    def tap(coord, axis, xi, column):
+        n = (info.ends, info.picks)[axis]
+        centres = info.centres_mm[("warp", "weft")[axis]]
+        offset = centres[0] / (info.repeat_mm[axis] / n) - 0.5
+        crossings = g.math("MULTIPLY_ADD", coord, float(n), -offset, column=column)
+        t = g.math("FLOOR", g.math("MULTIPLY_ADD", crossings, side_texels, g.math(
+            "SUBTRACT", xi, 0.5, column=column), column=column), column=column)
+        crossing = g.math("FLOOR", g.math("DIVIDE", t, side_texels, column=column),
+                          column=column)
+        local = g.math("SUBTRACT", t, g.math("MULTIPLY", crossing, side_texels, column=column),
+                       column=column)
+        wrapped = g.math("WRAP", crossing, float(n), 0.0, column=column)
+        at = g.math("MULTIPLY_ADD", wrapped, 1.0 / n, 0.5 / n, column=column)
+        return crossing, local, at
+
+    end, lx, at_x = tap(ux, 0, xi_x, 10)
+    pick, ly, at_y = tap(uy, 1, xi_y, 10)
+    at = g.combine(at_x, at_y, 0.0, column=11)
+    index = g.node("ShaderNodeTexImage", 11, image=index_image, interpolation="Closest",
+                   extension="EXTEND", label="crossing's block")
+    g.feed(index.inputs["Vector"], at)
+    _, block_x, block_y = g.separate(index.outputs["Color"], column=11)
+    # the picked texel's pixel centre in its tile, one past the gutter
+    tx = g.math("ADD", g.math("MULTIPLY_ADD", block_x, side_texels, lx, column=11), 1.5,
+                column=11)
+    ty = g.math("ADD", g.math("MULTIPLY_ADD", block_y, side_texels, ly, column=11), 1.5,
+                column=11)
+    px0 = g.math("MULTIPLY_ADD", vi, pitch, tx, column=11)
+    py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch_up, ty, column=11), y_level,
+                 column=11)
+    uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
+                    g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
+    step = g.combine(g.math("MULTIPLY", pitch, float(info.k) / pack.width, column=12),
+                     float(pack.band) / pack.height, 0.0, column=12)
+    return uv0, step, (end, pick)
 
 
 def _spot_mask(g, gin, l, direction, col):
@@ -742,6 +806,26 @@ def _strip_rows(g, coord, t_pixel, texel, q, width, rows, col):
     return column, row
 
 
+def _thread_places(g, crossings, strips, info, col):
+    """(column, own row) of the warp strips and the weft's for a material
+    addressed per crossing: its strips hold one column a thread over the
+    colours' repeat (material_colours.make_strips) and one level, so a
+    tap's column is its end (pick) over all repeats, wrapped into q n."""
+    out = []
+    for c, n, q, width, rows in ((crossings[0], info.ends, strips.q_warp, strips.warp.size[0],
+                                  strips.rows_warp),
+                                 (crossings[1], info.picks, strips.q_weft, strips.weft.size[0],
+                                  strips.rows_weft)):
+        column = g.math("WRAP", c, float(q * n), 0.0, column=col)
+        row = 0.0
+        if rows > 1:
+            row = g.math("FLOOR", g.math("DIVIDE", column, float(width), column=col), column=col)
+            column = g.math("WRAP", column, float(width), 0.0, column=col)
+        out.append((column, row))
+        col += 1
+    return tuple(out)
+
+
 def _strip_places(g, texel, strips, col):
     """(column, own row) of the warp strips (along x) and the weft's (y)."""
     return (_strip_rows(g, texel.ux, texel.tx, texel, strips.q_warp, strips.warp.size[0],
@@ -874,20 +958,23 @@ def layout_suffix(kinds):
 
 
 def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips=None,
-                next_image=None):
+                next_image=None, index_image=None):
     """The node group, reused when one of this name was built from the same
     pack; else built anew (the steps of the module docstring, in order) and
     every material of the old one moved onto it. `kinds`: per light, "POINT"
     (a sun or a point light), "SPOT" or "AREA" (light_kinds); an int n
     stands for n suns or point lights. A colour-free material: `strips`
     (Strips, its colour strips) and `next_image` (the pack's next atlas);
-    the group then has the colour inputs."""
+    the group then has the colour inputs. A material addressed per crossing
+    (info.address CROSSINGS): `index_image`, the pack's crossings.exr."""
     if isinstance(kinds, int):
         kinds = ["POINT"] * kinds
     key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
           f"{layout_suffix(kinds)} {route} {pack.width}x{pack.height}"
     if info.parallax_depth_mm > 0:
         key += f" parallax {info.parallax_depth_mm!r}"
+    if index_image is not None:
+        key += f" crossings {index_image.name} {info.ends}x{info.picks} {info.blocks}"
     if strips is not None:
         key += f" {info.parts} {strips.warp.name} {strips.q_warp} {tuple(strips.warp.size)}" \
                f" {strips.weft.name} {strips.q_weft} {tuple(strips.weft.size)}"
@@ -907,8 +994,15 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     view = (vi, view_row)
     shift = _parallax_shift(g, info, scaled, vi, vj) if info.parallax_depth_mm > 0 else None
     level = _level(g, gin, info, position, vz, xi3)
-    address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5, shift)
-    places = None if strips is None else _strip_places(g, address[2], strips, 12)
+    if index_image is not None:
+        address = _crossing_address(g, gin, info, pack, view, level, xi4, xi5, index_image,
+                                    shift)
+        places = _thread_places(g, address[2], strips, info, 12)
+        strip_levels = 1
+    else:
+        address = _texel_address(g, gin, pack, info.k, view, level, xi4, xi5, shift)
+        places = None if strips is None else _strip_places(g, address[2], strips, 12)
+        strip_levels = info.levels
     per_light, denom, col = _lights(g, gin, frame, position, view, info, pack, kinds, lit,
                                     (xi6, xi7) + tuple(xis[7:]), 13)
     if lit:
@@ -922,7 +1016,7 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     else:
         sums, alpha, col, sides = _components(g, (coeff_image, light_image, next_image),
                                               address, per_light, info.k, pack, col)
-        sums = _coloured(g, gin, sums, places, sides, strips, info.levels, col)
+        sums = _coloured(g, gin, sums, places, sides, strips, strip_levels, col)
         col += 5
     _shaders(g, sums, alpha, denom, lit, col)
     if g.late:

@@ -1,8 +1,10 @@
 """Reading a cloth material folder's manifest.json (docs/material-format.md),
 checked as far as Blender needs it, beside the lookup's reader
 (core/manifest.py). The ranges are the program's (core/defaults.py).
-Versions 1 and 2: version 1 is read as parts "rgb"; version 2's colour-free
-parts ("specular-warp-weft") bring the cloth's threads and its colours."""
+Versions 1 to 3: version 1 is read as parts "rgb"; version 2's colour-free
+parts ("specular-warp-weft") bring the cloth's threads and its colours;
+version 3 (address "crossings") stores one block per class of crossings and
+a per-crossing index (crossings.exr) instead of the whole repeat."""
 import json
 import math
 import os
@@ -16,9 +18,10 @@ HORIZON = "hemi-octahedral-horizon"
 SQUARE = "hemi-octahedral"
 RGB = "rgb"
 SWF = "specular-warp-weft"   # colour-free parts: kNNNN.specular, .warp, .weft, .warp_next, .weft_next
-VERSIONS = (1, 2)
+VERSIONS = (1, 2, 3)
 # Written only for a material addressed per crossing (--address crossings).
 ADDRESSED_VERSION = 3
+REPEAT, CROSSINGS = "repeat", "crossings"   # the manifest's `address`
 FAMILIES = ("warp", "weft")
 SWF_CHANNELS = ("specular", "warp", "weft", "warp_next", "weft_next")
 
@@ -49,6 +52,27 @@ class MaterialInfo:
     # written over its colour repeat is baked over its weave's (107 x 107 for
     # a plain weave written over 214 ends and picks).
     written_repeats: tuple = (1.0, 1.0)
+    # CROSSINGS only: the colour-free repeat's ends and picks, the blocks
+    # (classes) and the index file (docs/material-format.md, "Addressed per
+    # crossing"); texels then counts a crossing's side, not the repeat's.
+    address: str = REPEAT
+    ends: int = 1
+    picks: int = 1
+    blocks: int = 1
+    crossings_file: str = ""
+
+    @property
+    def block_grid(self):
+        """(bx, by): a view node's tile holds the blocks bx across and by
+        up (core/material_pack.py); (1, 1) for a whole repeat."""
+        bx = math.isqrt(self.blocks - 1) + 1 if self.blocks > 1 else 1
+        return bx, -(-self.blocks // bx)
+
+    @property
+    def threads_per_repeat(self):
+        """(x, y): level-0 texels per repeat over `texels`: 1 for a whole
+        repeat, the ends and picks for a material addressed per crossing."""
+        return (self.ends, self.picks) if self.address == CROSSINGS else (1, 1)
 
     @property
     def channels(self):
@@ -109,12 +133,6 @@ def read_material(folder):
     if not isinstance(m, dict) or m.get("format") != FORMAT:
         raise ClothbakeError(f"must be \"{FORMAT}\" (is this a material folder?)", path, "format")
     version = _field(m, "version", int, path)
-    if version == ADDRESSED_VERSION and m.get("address") == "crossings":
-        # Its blocks are read through a per-crossing index that the node
-        # group does not build yet (docs/blender-addon.md).
-        raise ClothbakeError("is \"crossings\": a material addressed per crossing is rendered "
-                             "by 'clothbake lookup-render' only for now; for Blender bake it "
-                             "with --address repeat", path, "address")
     if version not in VERSIONS:
         raise ClothbakeError(f"must be {' or '.join(map(str, VERSIONS))} (a newer program wrote "
                              "this material? update the add-on)", path, "version")
@@ -167,10 +185,54 @@ def read_material(folder):
         centres = _thread_centres(cloth, repeat, path)
         colors = _baked_colours(cloth, path)
         written = _written_repeats(cloth, path)
-    return MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
+    info = MaterialInfo(folder, m, texels, levels, k, kl, light_map, max_rank, ranks,
                         repeat, float(optics["depth_scale"]),
                         str(cloth.get("name", "")), str(cloth.get("hash", "")), parts,
                         centres, colors, float(parallax), written)
+    address = m.get("address", REPEAT) if version == ADDRESSED_VERSION else REPEAT
+    if address not in (REPEAT, CROSSINGS):
+        raise ClothbakeError(f"must be \"{REPEAT}\" or \"{CROSSINGS}\"", path, "address")
+    if address == CROSSINGS:
+        _read_crossings(info, m, folder, path)
+    return info
+
+
+def _read_crossings(info, m, folder, path):
+    """A material addressed per crossing: its counts and index file, and
+    threads Blender's nodes can place a point among (uniform spacing)."""
+    if info.parts != SWF:
+        raise ClothbakeError(f"must be \"{SWF}\" for a material addressed per crossing",
+                             path, "parts")
+    c = m.get("crossings")
+    if not isinstance(c, dict):
+        raise ClothbakeError("must hold ends, picks, blocks and file", path, "crossings")
+    counts = []
+    for key in ("ends", "picks", "blocks"):
+        value = c.get(key)
+        if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+            raise ClothbakeError("must be a positive integer", path, f"crossings.{key}")
+        counts.append(value)
+    name = c.get("file")
+    if not isinstance(name, str) or os.path.basename(name) != name or \
+            not os.path.isfile(os.path.join(folder, name)):
+        raise ClothbakeError(f"names {name!r}, which is not in the folder", path, "crossings.file")
+    info.address = CROSSINGS
+    info.ends, info.picks, info.blocks = counts
+    info.crossings_file = os.path.join(folder, name)
+    for axis, (family, n) in enumerate(zip(FAMILIES, counts[:2])):
+        centres = info.centres_mm[family]
+        if len(centres) != n:
+            raise ClothbakeError(f"holds {len(centres)} threads; crossings.{'ends' if axis == 0 else 'picks'} "
+                                 f"says {n}", path, f"cloth.threads.{family}.centres_mm")
+        pitch = info.repeat_mm[axis] / n
+        if any(abs((b - a) - pitch) > 1e-3 * pitch for a, b in zip(centres, centres[1:])):
+            # The node group places a point among its crossings by
+            # arithmetic; threads of their own spacings would need a span
+            # lookup it does not build (lookup-render reads them).
+            raise ClothbakeError("are not evenly spaced: Blender reads a material addressed per "
+                                 "crossing on evenly spaced threads only; render it with "
+                                 "'clothbake lookup-render', or bake it with --address repeat",
+                                 path, f"cloth.threads.{family}.centres_mm")
 
 
 def _written_repeats(cloth, path):

@@ -66,8 +66,8 @@ from .errors import ClothbakeError
 from .yarn_colours import next_sides
 # The material folder's reader; imported here too, as the pack's callers
 # (and tests) know it by material_pack.read_material.
-from .material_manifest import (FORMAT, HORIZON, SQUARE, SWF, MaterialInfo,  # noqa: F401
-                                is_material_folder, read_material)
+from .material_manifest import (CROSSINGS, FORMAT, HORIZON, SQUARE, SWF,  # noqa: F401
+                                MaterialInfo, is_material_folder, read_material)
 
 PACK_VERSION = 5
 DEFAULT_RANK = 24       # components Blender evaluates (node count grows with it)
@@ -164,22 +164,26 @@ class Pack:
     light_height: int
     groups: int           # ceil(rank / 4)
     next_coefficients: str = ""   # colour-free: path of coefficients_next.exr, else ""
+    crossings: str = ""   # addressed per crossing: path of crossings.exr, else ""
 
 
-def level_offset(texels, k, level):
-    """Y_L of the module docstring, in pixels from the bottom."""
-    return 2 * k * (2 * texels * (1 - 0.5 ** level) + 2 * level)
+def level_offset(texels, k, level, by=1):
+    """Y_L of the module docstring, in pixels from the bottom: the running
+    sum of the levels' tile rows, (by S_l + 2) each."""
+    return 2 * k * (by * 2 * texels * (1 - 0.5 ** level) + 2 * level)
 
 
 def coefficient_layout(info, rank):
     """(width, height, per_row, band): components sit per_row side by side
     in bands of `band` rows (every level), component c in band c // per_row
     at column block c % per_row, so no image is wider than MAX_WIDTH."""
-    block = info.k * (info.texels + 2)
+    bx, by = info.block_grid
+    block = info.k * (bx * info.texels + 2)
     per_row = max(1, min(rank, MAX_WIDTH // block))
-    band = int(round(level_offset(info.texels, info.k, info.levels)))
+    band = int(round(level_offset(info.texels, info.k, info.levels, by)))
     bands = (rank + per_row - 1) // per_row
     return per_row * block, bands * band, per_row, band
+
 
 
 def _read_exr(path, what):
@@ -237,8 +241,9 @@ def blender_rank(info, rank=None):
     want = DEFAULT_RANK if rank is None else int(rank)
     if want < 1:
         raise ClothbakeError("must be at least 1", "", "rank")
-    band = level_offset(info.texels, info.k, info.levels)
-    per_row = max(1, MAX_WIDTH // (info.k * (info.texels + 2)))
+    bx, by = info.block_grid
+    band = level_offset(info.texels, info.k, info.levels, by)
+    per_row = max(1, MAX_WIDTH // (info.k * (bx * info.texels + 2)))
     fits = max(1, int(MAX_SIDE // band) * per_row)
     return max(1, min(want, max(1, info.max_rank), fits))
 
@@ -252,7 +257,8 @@ def _layout(info, rank, dense):
     return Pack(folder, os.path.join(folder, "coefficients.exr"),
                 os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
                 per_row, band, groups * info.k * 2 * q, 2 * info.k * q + 2 * info.k, groups,
-                os.path.join(folder, "coefficients_next.exr") if info.parts == SWF else "")
+                os.path.join(folder, "coefficients_next.exr") if info.parts == SWF else "",
+                os.path.join(folder, "crossings.exr") if info.address == CROSSINGS else "")
 
 
 def _is_cached(pack, key):
@@ -260,7 +266,8 @@ def _is_cached(pack, key):
         with open(os.path.join(pack.folder, "pack.json")) as f:
             return json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
                 os.path.isfile(pack.light_factors) and \
-                (not pack.next_coefficients or os.path.isfile(pack.next_coefficients))
+                (not pack.next_coefficients or os.path.isfile(pack.next_coefficients)) and \
+                (not pack.crossings or os.path.isfile(pack.crossings))
     except (OSError, ValueError):
         return False
 
@@ -268,20 +275,23 @@ def _is_cached(pack, key):
 def _place_level(coeff, info, pack, level, coeff_next=None):
     """Level `level`'s tiles of every kept component into `coeff` (and a
     colour-free material's next parts into `coeff_next`)."""
-    k, s0 = info.k, info.texels
+    k, s0, nb = info.k, info.texels, info.blocks
+    bx, by = info.block_grid
     path = os.path.join(info.folder, info.manifest["files"]["levels"][level])
     px, names = _read_exr(path, f"level {level}")
     s = max(1, s0 >> level)
-    if px.shape[:2] != (2 * k * s, k * s):
+    if px.shape[:2] != (2 * k * nb * s, k * s):
         raise ClothbakeError(f"is {px.shape[1]} x {px.shape[0]} pixels; the manifest says "
-                             f"{k * s} x {2 * k * s}", path)
-    p = s + 2
-    y0 = int(round(level_offset(s0, k, level)))
+                             f"{k * s} x {2 * k * nb * s}", path)
+    px_, py_ = bx * s + 2, by * s + 2       # the tile's pitch across and up
+    y0 = int(round(level_offset(s0, k, level, by)))
     alpha = px[..., _channel(names, "A", path)]
-    # (2K rows of tiles, S, K columns, S) -> [row, col, ty, tx], rows top-down in the file
-    a_t = alpha.reshape(2 * k, s, k, s).transpose(0, 2, 1, 3)
-    # (2K, K, S, S, 2): each view node's next sides over its whole tile
-    sides = np.broadcast_to(next_sides(k)[:, :, None, None, :], (2 * k, k, s, s, 2))
+    # (2K rows of tiles, blocks, S, K columns, S) -> [row, col, block, ty,
+    # tx], rows top-down in the file; block b of a view node's tile is its
+    # rows b S .. b S + S - 1 (docs/material-format.md).
+    a_t = alpha.reshape(2 * k, nb, s, k, s).transpose(0, 3, 1, 2, 4)
+    # (2K, K, blocks, S, S, 2): each view node's next sides over its whole tile
+    sides = np.broadcast_to(next_sides(k)[:, :, None, None, None, :], (2 * k, k, nb, s, s, 2))
     for comp in range(pack.rank):
         channels = info.channels
         if comp < info.max_rank:
@@ -289,20 +299,31 @@ def _place_level(coeff, info, pack, level, coeff_next=None):
                               for c in channels], -1)
         else:
             parts = np.zeros(px.shape[:2] + (len(channels),), np.float32)
-        c_t = parts.reshape(2 * k, s, k, s, len(channels)).transpose(0, 2, 1, 3, 4)
-        tile = np.concatenate([c_t[..., :3], a_t[..., None]], -1)       # (2K, K, S, S, 4)
+        c_t = parts.reshape(2 * k, nb, s, k, s, len(channels)).transpose(0, 3, 1, 2, 4, 5)
+        tile = np.concatenate([c_t[..., :3], a_t[..., None]], -1)   # (2K, K, blocks, S, S, 4)
         if coeff_next is not None:
             tile = np.concatenate([tile, c_t[..., 3:5], sides], -1)     # + (Wn, Fn, px, py)
-        # texel (tx, ty) with ty counted from the repeat's y = 0 (the
-        # file's row order inside a tile), placed with the gutter
-        padded = np.pad(tile, ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="wrap")
+        tiles = np.zeros((2 * k, k, py_, px_, tile.shape[-1]), np.float32)
+        if nb == 1:
+            # texel (tx, ty) with ty counted from the repeat's y = 0 (the
+            # file's row order inside a tile), placed with the gutter, which
+            # holds the periodic neighbours
+            tiles[:] = np.pad(tile[:, :, 0], ((0, 0), (0, 0), (1, 1), (1, 1), (0, 0)),
+                              mode="wrap")
+        else:
+            # block b at (b % bx, b // bx) of the tile's grid of S x S
+            # blocks; a pick lands inside its crossing's block, so the
+            # gutter stays unused
+            for b in range(nb):
+                x, y = 1 + (b % bx) * s, 1 + (b // bx) * s
+                tiles[:, :, y:y + s, x:x + s] = tile[:, :, b]
         for row in range(2 * k):
             for col in range(k):
-                x = ((comp % pack.per_row) * k + col) * p
-                y = (comp // pack.per_row) * pack.band + y0 + row * p
-                coeff[y:y + p, x:x + p] = padded[row, col, ..., :4]
+                x = ((comp % pack.per_row) * k + col) * px_
+                y = (comp // pack.per_row) * pack.band + y0 + row * py_
+                coeff[y:y + py_, x:x + px_] = tiles[row, col, ..., :4]
                 if coeff_next is not None:
-                    coeff_next[y:y + p, x:x + p] = padded[row, col, ..., 4:]
+                    coeff_next[y:y + py_, x:x + px_] = tiles[row, col, ..., 4:]
     # The tile's row ty is texel y = ty (y up in Blender's image space), so
     # the array is stored bottom-up as it is: nothing to flip per tile.
 
@@ -350,7 +371,24 @@ def _light_factor_image(info, pack):
     return lights
 
 
-def _write_pack(pack, key, coeff, lights, coeff_next=None):
+def _crossings_image(info):
+    """The per-crossing index re-packed: pixel (e, p), row p counted from
+    the bottom as Blender addresses it, holds (block, its column b % bx and
+    row b // bx in a tile's grid of blocks, 1), so the nodes read where
+    the block lies instead of computing it."""
+    path = info.crossings_file
+    px, names = _read_exr(path, "crossing index")
+    if px.shape[:2] != (info.picks, info.ends):
+        raise ClothbakeError(f"is {px.shape[1]} x {px.shape[0]} pixels; the manifest says "
+                             f"{info.ends} x {info.picks} (crossings.ends x picks)", path)
+    block = px[..., _channel(names, "block", path)]
+    if not np.all((block == np.round(block)) & (block >= 0) & (block < info.blocks)):
+        raise ClothbakeError(f"holds a block index outside 0..{info.blocks - 1}", path)
+    bx, _ = info.block_grid
+    return np.stack([block, block % bx, block // bx, np.ones_like(block)], -1)
+
+
+def _write_pack(pack, key, coeff, lights, coeff_next=None, crossings=None):
     """The pack's folder, written as a temporary sibling and renamed over
     the old one (the program's NAME.tmp-PID / NAME.old-PID names)."""
     folder = pack.folder
@@ -362,6 +400,8 @@ def _write_pack(pack, key, coeff, lights, coeff_next=None):
         _write_exr(os.path.join(tmp, "light_factors.exr"), lights, "float")
         if coeff_next is not None:
             _write_exr(os.path.join(tmp, "coefficients_next.exr"), coeff_next, "half")
+        if crossings is not None:
+            _write_exr(os.path.join(tmp, "crossings.exr"), crossings, "float")
         with open(os.path.join(tmp, "pack.json"), "w") as fh:
             json.dump({"key": key, "rank": pack.rank, "dense": pack.dense, "width": pack.width,
                        "height": pack.height, "per_row": pack.per_row, "band": pack.band,
@@ -385,6 +425,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     key = pack_key(info, rank, dense)
     if _is_cached(pack, key):
         return pack
+    crossings = _crossings_image(info) if pack.crossings else None
     coeff = np.zeros((pack.height, pack.width, 4), np.float32)
     coeff_next = np.zeros_like(coeff) if pack.next_coefficients else None
     for level in range(info.levels):
@@ -394,7 +435,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     lights = _light_factor_image(info, pack)
     if progress:
         progress(info.levels / (info.levels + 1))
-    _write_pack(pack, key, coeff, lights, coeff_next)
+    _write_pack(pack, key, coeff, lights, coeff_next, crossings)
     if progress:
         progress(1.0)
     return pack
