@@ -209,17 +209,81 @@ def test_missing_image_is_named(material, tmp_path):
     assert "level_1.exr" in str(e.value)
 
 
-def test_addressed_per_crossing_is_refused_by_name(tmp_path):
-    """A material addressed per crossing (format version 3) is lookup-render's
-    only for now: Apply refuses it naming the field and saying what to do,
-    not as a material from a newer program."""
+@pytest.fixture(scope="module")
+def addressed(tmp_path_factory):
+    """A material addressed per crossing of a real WIF (Mac WeaveIt's 62 x
+    62 twill, 30 classes of crossings), at tiny settings."""
     source = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
     exe = os.environ.get("CLOTHBAKE_BIN", os.path.join(source, "build", "baker", "clothbake"))
-    out = str(tmp_path / "addressed")
-    subprocess.run([exe, "material", os.path.join(source, "testscenes", "paper", "cloth.json"),
-                    "-o", out, "--address", "crossings", "--texels", "2", "--directions", "2",
-                    "--light-directions", "2", "--spp", "1", "--context", "1", "--quiet"],
-                   check=True, stdout=subprocess.DEVNULL)
+    work = tmp_path_factory.mktemp("a")
+    spec = work / "cloth.json"
+    spec.write_text(json.dumps({"name": "twill", "weave": {"wif": os.path.join(
+        source, "testscenes", "wif", "real", "wi_32twill.wif")}}))
+    out = str(work / "addressed")
+    subprocess.run([exe, "material", str(spec), "-o", out, "--address", "crossings",
+                    "--texels", "2", "--directions", "2", "--light-directions", "2", "--spp", "1",
+                    "--context", "1", "--quiet"], check=True, stdout=subprocess.DEVNULL)
+    return out
+
+
+def test_addressed_blocks_at_the_node_trees_address(addressed):
+    """Every crossing's texels, at every level, view node and component, at
+    the address material_nodes._crossing_address computes from the packed
+    index: the block of the crossing's class, in the tile's grid of blocks."""
+    info = mp.read_material(addressed)
+    assert info.address == mp.CROSSINGS and (info.ends, info.picks, info.blocks) == (62, 62, 30)
+    bx, by = info.block_grid
+    assert (bx, by) == (6, 5)
+    pack = mp.pack_material(info, rank=64, dense=5)
+    coeff = read(pack.coefficients)[0][::-1]     # row 0 at the bottom
+    nxt = read(pack.next_coefficients)[0][::-1]
+    index = read(pack.crossings)[0][::-1]
+    block_of, names = read(info.crossings_file)
+    block_of = block_of[..., names.index("block")]               # [pick, end]
+    np.testing.assert_array_equal(index[..., 0], block_of)
+    assert sorted(set(block_of.ravel().astype(int))) == list(range(info.blocks))
+    k = info.k
+    rng = np.random.default_rng(3)
+    crossings = [(int(e), int(p)) for e, p in rng.integers(0, 62, (40, 2))]
+    for level in range(info.levels):
+        px, ch = read(os.path.join(addressed, f"level_{level}.exr"))
+        s = max(1, info.texels >> level)
+        pitch_x, pitch_y = bx * s + 2, by * s + 2
+        y_level = mp.level_offset(info.texels, k, level, by)
+        for v in range(2 * k * k):
+            row, col = divmod(v, k)
+            for comp in range(pack.rank):
+                for e, p in crossings:
+                    b, gx, gy, _ = index[p, e]
+                    for ix in range(s):
+                        for iy in range(s):
+                            # the node tree's pixel centre, as _crossing_address
+                            x = ((comp % pack.per_row) * k + col) * pitch_x + gx * s + ix + 1.5
+                            y = (comp // pack.per_row) * pack.band + y_level + \
+                                row * pitch_y + gy * s + iy + 1.5
+                            got = coeff[int(y), int(x)]
+                            fy = (row * info.blocks + int(b)) * s + iy
+                            fx = col * s + ix
+                            want = [px[fy, fx, ch.index(f"k{comp:04d}.{c}")]
+                                    for c in ("specular", "warp", "weft")] + \
+                                [px[fy, fx, ch.index("A")]]
+                            np.testing.assert_allclose(got, want, rtol=1e-3, atol=1e-6)
+                            np.testing.assert_allclose(
+                                nxt[int(y), int(x), :2],
+                                [px[fy, fx, ch.index(f"k{comp:04d}.{c}")]
+                                 for c in ("warp_next", "weft_next")], rtol=1e-3, atol=1e-6)
+
+
+def test_addressed_on_uneven_threads_is_refused_by_name(addressed, tmp_path):
+    """Blender places a point among evenly spaced crossings only: a material
+    whose threads are not is refused naming the field (lookup-render reads
+    it)."""
+    bad = tmp_path / "uneven"
+    shutil.copytree(addressed, bad)
+    path = bad / "manifest.json"
+    m = json.loads(path.read_text())
+    m["cloth"]["threads"]["weft"]["centres_mm"][1] += 0.2
+    path.write_text(json.dumps(m))
     with pytest.raises(ClothbakeError) as e:
-        mp.read_material(out)
-    assert e.value.field == "address" and "--address repeat" in str(e.value)
+        mp.read_material(str(bad))
+    assert e.value.field == "cloth.threads.weft.centres_mm" and "lookup-render" in str(e.value)
