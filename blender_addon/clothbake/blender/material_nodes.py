@@ -10,7 +10,10 @@ level). Per shading point the group computes, one function a step:
      the directions toward the eye (_view_direction) and toward each light
      (_light) in that frame;
   2. where in the repeat (_texel_address): the UV map x repeats per UV, its
-     fraction;
+     fraction; for a material addressed per crossing (_crossing_address),
+     the crossing and the texel in it, each crossing S_L texels a side
+     whatever its width, the tap's block read from the pack's per-crossing
+     index (a Closest read), its colours a column a thread (_thread_places);
   3. the level from the pixel's footprint (_level, below);
   4. the view node (_view_node), level and texel, each picked at random with
      the probabilities of clothbake's bilinear / trilinear weights (a White

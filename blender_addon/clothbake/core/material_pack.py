@@ -26,6 +26,17 @@ coefficients (`coefficients.exr`, half RGBA):
     whether the view node's ray runs toward + x / + y, so that its next
     colours are the owner + 1's (core/yarn_colours.next_sides).
 
+    A material addressed per crossing (docs/material-format.md, version 3)
+    has `blocks` blocks of S x S texels per view node: a tile holds them in
+    a grid bx = ceil(sqrt(blocks)) across and by = ceil(blocks / bx) up,
+    block b at (b % bx, b // bx), so the tile's pitch is P = bx S + 2
+    across and by S + 2 up and Y_L = 2 K (by 2 S0 (1 - 2^-L) + 2 L) (a
+    whole repeat is bx = by = 1). Texel (tx, ty) of block b is pixel
+    (1 + (b % bx) S + tx, 1 + (b // bx) S + ty) of the tile; every pick
+    lands inside its crossing's block, so the gutter stays unused.
+    `crossings.exr` (float RGBA, ends x picks) holds, at pixel (end, pick)
+    from the bottom, the crossing's block, b % bx and b // bx.
+
 light factors (`light_factors.exr`, float RGBA):
     F(v, n, k) resampled from the material's light nodes (Catmull-Rom, as
     clothbake's lookup blends them) onto a grid of M x M directions per
