@@ -4,6 +4,7 @@ asks (docs/material.md, "Addressed per crossing"):
 
     scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8]
                                          [--no-randomness] [--seed-floor]
+                                         [--blender BLENDER] [--reuse]
 
 For each draft, on the paper scene's folds, camera and lights at 80 warp
 ends per UV:
@@ -14,7 +15,12 @@ ends per UV:
   3. lookup-render 64 spp from it, against the reference;
   4. the same material, not baked again, for the cloth in other colours
      (warp stripes through warp.colors: 4 ends of a blue, 2 of a cream; a
-     green weft), against that cloth's own reference.
+     green weft), against that cloth's own reference;
+  5. with --blender: Blender's Cycles (headless_render.py, route exact, the
+     same spp) from the same material in both colourings, against the same
+     references; the issue's bound is 1.25 x lookup-render's error plus one
+     point. --reuse keeps a WORK_DIR's bake, references and lookup-renders
+     (results.json) and adds what is missing.
 The error is `clothbake compare`'s relative RMSE (RMSE over the reference's
 mean), per pixel and after a 2 x 2 box filter (426 x 266 pixels do not
 divide by 4). Writes WORK_DIR/results.json and, with --chart OUT.png, size
@@ -27,7 +33,7 @@ import json
 import os
 import sys
 
-from paper_runs import run, write_paper_scene
+from paper_runs import ROOT, run, write_paper_scene
 ENDS_PER_UV = 80
 
 
@@ -50,10 +56,29 @@ def scene_for(cloth_path, ends, out_path, reference):
     return write_paper_scene(cloth_path, ENDS_PER_UV / ends, out_path, reference)
 
 
-def measure(exe, work, wif, texels, spp, no_randomness, seed_floor):
+def blender_route(blender, d, key, material, spp):
+    """Cycles from the material (the add-on's headless route): seconds, image."""
+    img = os.path.join(d, f"{key}_blender.exr")
+    t, _ = run([blender, "-b", "--factory-startup", "-P",
+                os.path.join(ROOT, "blender_addon", "headless_render.py"), "--",
+                os.path.join(d, f"{key}.json"), material, img, "--samples", str(spp), "--seed",
+                "1", "--route", "exact"])
+    return t, img
+
+
+def measure(exe, work, wif, texels, spp, no_randomness, seed_floor, blender=None, reuse=False):
     name = os.path.splitext(os.path.basename(wif))[0]
     d = os.path.join(work, name)
     os.makedirs(d, exist_ok=True)
+    old = os.path.join(d, "results.json")
+    if reuse and os.path.exists(old):
+        res = json.load(open(old))
+        material = os.path.join(d, "material")
+        if blender:
+            add_blender(exe, blender, d, name, res, material, spp)
+        with open(old, "w") as f:
+            json.dump(res, f, indent=1)
+        return res
     _, text = run([exe, "draft", wif, "-o", os.path.join(d, "draft")])
     draft = json.load(open(os.path.join(d, "draft", "draft.json")))
     ends = draft["ends"]
@@ -95,6 +120,8 @@ def measure(exe, work, wif, texels, spp, no_randomness, seed_floor):
         if t_ref is not None:
             res[key]["reference_seconds"] = t_ref
         print(f"{name} {key}: {res[key]}", flush=True)
+    if blender:
+        add_blender(exe, blender, d, name, res, material, spp)
     if seed_floor:
         # The cloth against itself: the same spec with another generator
         # seed, the same reference settings.
@@ -112,6 +139,18 @@ def measure(exe, work, wif, texels, spp, no_randomness, seed_floor):
     with open(os.path.join(d, "results.json"), "w") as f:
         json.dump(res, f, indent=1)
     return res
+
+
+def add_blender(exe, blender, d, name, res, material, spp):
+    for key in ("scene", "recoloured"):
+        t, img = blender_route(blender, d, key, material, spp)
+        got = compare(exe, os.path.join(d, f"{key}_ref.exr"), img,
+                      os.path.join(d, f"{key}_blender_sheet.png"))
+        got["seconds"] = t
+        got["bound"] = 1.25 * res[key]["pixel"] + 0.01
+        got["within_bound"] = got["pixel"] <= got["bound"]
+        res[key]["blender"] = got
+        print(f"{name} {key} Blender: {got}", flush=True)
 
 
 def chart(out, work_dirs):
@@ -135,10 +174,16 @@ def chart(out, work_dirs):
                         (", no randomness" if hollow else ""),
                         (mb, 100 * r["scene"]["pixel"]), textcoords="offset points",
                         xytext=(-8, 8 if hollow else -14), ha="right", fontsize=7)
+            for key, marker in (("scene", "^"), ("recoloured", "v")):
+                if "blender" in r[key]:
+                    ax.plot(mb, 100 * r[key]["blender"]["pixel"], marker,
+                            color="C0" if key == "scene" else "C1", markerfacecolor="none")
             if "seed_floor" in r:
                 ax.plot(mb, 100 * r["seed_floor"], "x", color="grey")
     ax.plot([], [], "o", color="C0", label="scene's colours")
     ax.plot([], [], "s", color="C1", label="recoloured, same material")
+    ax.plot([], [], "^", color="grey", markerfacecolor="none",
+            label="Blender Cycles from the same material (v: recoloured)")
     ax.plot([], [], "o", color="grey", markerfacecolor="none", label="cloth without randomness")
     ax.plot([], [], "x", color="grey", label="the cloth against itself, another seed")
     ax.axhline(8, color="grey", ls=":", lw=1)
@@ -149,7 +194,7 @@ def chart(out, work_dirs):
     ax.set_xlim(0, 280)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="lower left")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
 
@@ -172,11 +217,15 @@ def main():
                     help="also render the reference with the cloth's generator seed 2: the "
                          "cloth's own variation, which no material sharing a crossing's "
                          "randomness among others can go below")
+    ap.add_argument("--blender", help="also render Blender's Cycles route (this Blender)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep the bake, references and lookup-renders of WORK_DIR")
     a = ap.parse_args()
     exe, work = os.path.abspath(a.exe), os.path.abspath(a.work)
     os.makedirs(work, exist_ok=True)
     for wif in a.drafts:
-        measure(exe, work, wif, a.texels, a.spp, a.no_randomness, a.seed_floor)
+        measure(exe, work, wif, a.texels, a.spp, a.no_randomness, a.seed_floor,
+                a.blender and os.path.abspath(a.blender), a.reuse)
     return 0
 
 

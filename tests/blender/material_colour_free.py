@@ -289,6 +289,17 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
                                  f"{change:.4f}, noise {got2[1]:.4f})")
     compare("Cycles after a palette colour changed, against lookup-render", got2, ref2)
     sheet += [ref2, got2[0]]
+    # Eevee reads the same images (its GPU textures: the index and the
+    # blocks' grid within its limits).
+    from clothbake.blender.headless import use_eevee
+    scene_bpy = bpy.context.scene
+    use_eevee(scene_bpy, 16)
+    eevee = render_still(os.path.join(TMP, "addressed_eevee.exr"), 1)
+    scene_bpy.render.engine = "CYCLES"
+    err = rel_rmse(blocks(ref2), blocks(eevee))
+    check(err < 0.05, f"Eevee, the addressed material after the palette edit, against "
+                      f"lookup-render, 4x4 blocks: {err:.4f} < 0.05")
+    sheet.append(eevee)
     save_png(np.concatenate(sheet, 1),
              os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_addressed.png"))
 

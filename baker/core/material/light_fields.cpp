@@ -50,13 +50,7 @@ LightFieldSet LightFieldSet::build(const VolumeTexture& volume, std::span<const 
                                    float sigma, int supersample, LightFieldMethod method) {
   const VolumeTexture fine = refine(volume, std::max(1, supersample));
   if (method == LightFieldMethod::LayerMarch) return build_faces(fine, to_light, sigma);
-  LightFieldSet set;
-  set.m_nx = fine.nx();
-  set.m_ny = fine.ny();
-  set.m_nz = fine.nz();
-  set.m_lights = int(to_light.size());
-  set.m_spacing = fine.cell_size_mm();
-  set.m_thickness = fine.size_mm().z;
+  LightFieldSet set = shaped_like(fine, to_light.size());
   const size_t L = to_light.size();
   const size_t layer = size_t(set.m_nx) * set.m_ny;
   set.m_tau.assign(layer * size_t(set.m_nz + 2) * L, 0.0f);
@@ -77,16 +71,21 @@ LightFieldSet LightFieldSet::build(const VolumeTexture& volume, std::span<const 
   return set;
 }
 
-LightFieldSet LightFieldSet::build_faces(const VolumeTexture& fine, std::span<const V3f> to_light,
-                                         float sigma) {
+LightFieldSet LightFieldSet::shaped_like(const VolumeTexture& fine, size_t lights) {
   LightFieldSet set;
-  set.m_method = LightFieldMethod::LayerMarch;
   set.m_nx = fine.nx();
   set.m_ny = fine.ny();
   set.m_nz = fine.nz();
-  set.m_lights = int(to_light.size());
+  set.m_lights = int(lights);
   set.m_spacing = fine.cell_size_mm();
   set.m_thickness = fine.size_mm().z;
+  return set;
+}
+
+LightFieldSet LightFieldSet::build_faces(const VolumeTexture& fine, std::span<const V3f> to_light,
+                                         float sigma) {
+  LightFieldSet set = shaped_like(fine, to_light.size());
+  set.m_method = LightFieldMethod::LayerMarch;
   set.m_sigma = sigma;
   const size_t L = to_light.size();
   const size_t layer = size_t(set.m_nx) * set.m_ny;
@@ -237,14 +236,15 @@ void LightFieldSet::depths_layer_march(const V3f& p, float* depth) const {
   // crosses it (bilinear between the columns' centres).
   const size_t L = size_t(m_lights);
   const float inv_sx = 1.0f / m_spacing.x, inv_sy = 1.0f / m_spacing.y;
+  const float inv_nx = 1.0f / float(m_nx), inv_ny = 1.0f / float(m_ny);
   for (size_t l = 0; l < L; ++l) {
     const LightStep& st = m_light[l];
     const float t = (st.from_above ? rise_up : rise_down) * st.path_per_height;
     const int kz = st.from_above ? kc + 1 : kc;
     int xa, ya;
     float fx, fy;
-    wrap_floor((p.x + st.dir_x * t) * inv_sx - 0.5f, m_nx, 1.0f / float(m_nx), xa, fx);
-    wrap_floor((p.y + st.dir_y * t) * inv_sy - 0.5f, m_ny, 1.0f / float(m_ny), ya, fy);
+    wrap_floor((p.x + st.dir_x * t) * inv_sx - 0.5f, m_nx, inv_nx, xa, fx);
+    wrap_floor((p.y + st.dir_y * t) * inv_sy - 0.5f, m_ny, inv_ny, ya, fy);
     const int xb = xa + 1 == m_nx ? 0 : xa + 1, yb = ya + 1 == m_ny ? 0 : ya + 1;
     const float* row_a = m_tau.data() + ((size_t(kz) * m_ny + ya) * m_nx) * L + l;
     const float* row_b = m_tau.data() + ((size_t(kz) * m_ny + yb) * m_nx) * L + l;

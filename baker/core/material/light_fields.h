@@ -76,6 +76,9 @@ class LightFieldSet {
                           LightFieldMethod method = LightFieldMethod::Interpolated);
 
  private:
+  /// An empty set with `fine`'s grid, spacing and thickness and `lights`
+  /// nodes: what build and build_faces start from.
+  static LightFieldSet shaped_like(const VolumeTexture& fine, size_t lights);
   static LightFieldSet build_faces(const VolumeTexture& fine,
                                    std::span<const Imath::V3f> to_light_texture,
                                    float extinction_per_mm);
