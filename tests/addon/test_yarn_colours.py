@@ -216,7 +216,7 @@ def test_unknown_parts_and_versions_refused(tmp_path):
     with pytest.raises(ClothbakeError, match="parts"):
         read_material(_folder(tmp_path, parts="spectral"))
     with pytest.raises(ClothbakeError, match="version"):
-        read_material(_folder(tmp_path, version=3))
+        read_material(_folder(tmp_path, version=4))
 
 
 def test_colour_free_pack_puts_the_next_parts_beside(tmp_path):

@@ -26,7 +26,12 @@ draws between steps:
      edited; a WIF the program refuses: its message in the panel
      (screenshot 03_refused.png); a JSON spec naming the WIF (weave.wif,
      relative, with a weft colour beside it) loads the same way and is
-     referred to while unedited; screenshot 04_spec_json.png.
+     referred to while unedited; screenshot 04_spec_json.png;
+  6. a real 62 x 62 WIF (wi_32twill.wif) on the plane, Bake material with
+     Address "Per crossing" (small settings): 30 blocks, applied; the 3D
+     view in Material Preview (screenshot 05_addressed_preview.png);
+  7. a palette colour edited: the 3D view shows it with no bake, and how
+     long after the edit (06_addressed_recoloured.png).
 
     DISPLAY=:N blender --factory-startup -P ui_wif_panel.py -- \
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR OUT_DIR WIF_FILE
@@ -362,10 +367,121 @@ def spec_json():
     scroll_to_cloth()
 
 
+TWILL = os.path.join(SOURCE, "testscenes", "wif", "real", "wi_32twill.wif")
+
+
+def view3d():
+    win = bpy.context.window_manager.windows[0]
+    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
+    return win, area, next(r for r in area.regions if r.type == "WINDOW")
+
+
+def view_shot(name):
+    win, area, region = view3d()
+    path = os.path.join(OUT, name + ".png")
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    return path
+
+
+def addressed_setup():
+    """6. A real WIF of 62 x 62 threads (Mac WeaveIt's twill) on the plane,
+    62 ends across it; the material panel's Address set to Per crossing,
+    small settings, the rest the panel's defaults."""
+    obj = cloth_obj()
+    obj.clothbake.cloth_path = TWILL
+    obj.clothbake.repeats_per_uv = 1.0
+    s = bpy.context.scene.clothbake
+    s.material_dir = os.path.join(WORK, "addressed_material")
+    s.material_address = "crossings"
+    # 6 directions were estimated at 61 s on the one thread: over a minute,
+    # the bake asks first
+    s.material_texels, s.material_directions = 4, 4
+    s.material_light_directions, s.material_spp = 4, 1
+    for o in bpy.context.scene.objects:
+        o.select_set(o == obj)
+    bpy.context.view_layer.objects.active = obj
+    win, area, region = props_area()
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        result = bpy.ops.clothbake.bake_material("INVOKE_DEFAULT")
+    check(result == {"RUNNING_MODAL"}, f"6. Bake material (per crossing) runs ({result})")
+    state["bake_start"] = time.time()
+
+
+def addressed_bake_done():
+    return not bpy.context.scene.clothbake.material_running
+
+
+def addressed_baked():
+    s = bpy.context.scene.clothbake
+    folder = os.path.join(WORK, "addressed_material")
+    path = os.path.join(folder, "manifest.json")
+    m = json.load(open(path)) if os.path.isfile(path) else {}
+    check(m.get("address") == "crossings" and m.get("crossings", {}).get("blocks") == 30,
+          f"6. baked per crossing in {time.time() - state['bake_start']:.0f} s: "
+          f"{s.material_status}")
+    mat = cloth_obj().active_material
+    check(mat is not None and mat.get("clothbake_material") == folder,
+          "6. the addressed material is applied to the plane")
+    win, area, region = view3d()
+    area.spaces.active.shading.type = "MATERIAL"
+    with bpy.context.temp_override(window=win, area=area, region=region):
+        bpy.ops.view3d.view_selected()
+    state["wait_start"] = time.time()
+
+
+def shaders_compiled():
+    """Eevee compiles the material's shaders after Material Preview is on."""
+    return time.time() - state["wait_start"] > 20
+
+
+def recolour():
+    """7. The palette's first colour edited: the viewport follows, no bake."""
+    state["before"] = view_shot("05_addressed_preview")
+    cloth_obj().clothbake.wif_palette[0].color = (0.9, 0.45, 0.02)
+    from clothbake.blender import material_colours
+    state["refresh_ms"] = material_colours.last_refresh.get("seconds", float("nan")) * 1e3
+    state["edit_time"] = time.time()
+
+
+def _red_over_blue(path):
+    """Red over blue of the mean colour in the middle of the 3D view (the
+    plane, 62 threads across: the viewport's sampling noise averages out)."""
+    import OpenImageIO as oiio
+    px = oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3]
+    h, w = px.shape[:2]
+    mean = px[int(0.45 * h):int(0.7 * h), int(0.35 * w):int(0.65 * w)].reshape(-1, 3).mean(0)
+    return mean[0] / max(mean[2], 1e-6)
+
+
+def viewport_followed():
+    """Polled: a screenshot of the 3D view each tick until the plane's red
+    over blue has risen 1.5 x (the blue quarter of the threads turned
+    orange), or the wait's limit."""
+    path = view_shot("06_addressed_recoloured")
+    state.setdefault("rb_before", _red_over_blue(state["before"]))
+    state["rb_after"] = _red_over_blue(path)
+    if state["rb_after"] < 1.5 * state["rb_before"]:
+        return False
+    state["shown_after"] = time.time() - state["edit_time"]
+    return True
+
+
+def after_recolour():
+    check(state.get("rb_after", 0) >= 1.5 * state.get("rb_before", 1e9),
+          f"7. the viewport shows the edited colour without a bake: red over blue "
+          f"{state['rb_before']:.2f} -> {state['rb_after']:.2f} in the plane, "
+          f"{state['shown_after']:.1f} s after the edit (the strips' update "
+          f"{state['refresh_ms']:.1f} ms; the screenshots are polled every 0.5 s)")
+
+
 STEPS = [setup, load_wif, ("wait", panel_drawn, 30), scroll_to_cloth, ("shot", "01_wif_panel"),
          after_load_drawn, edit_colour, ("shot", "02_colour_edited"), after_edit_drawn, export,
          reimport,
-         ("shot", "03_refused"), spec_json, ("shot", "04_spec_json")]
+         ("shot", "03_refused"), spec_json, ("shot", "04_spec_json"),
+         addressed_setup, ("wait", addressed_bake_done, 300), addressed_baked,
+         ("wait", shaders_compiled, 60), recolour, ("wait", viewport_followed, 30),
+         after_recolour]
 
 
 def tick():

@@ -65,7 +65,8 @@ def material_command(context):
     # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
     # colours recolour the applied material with no bake (docs/material.md).
     args = [program, "material", scene_path, "--object", str(index), "-o", folder,
-            *material_arguments(values), "--parts", "auto", "--threads", str(prefs.threads(context))]
+            *material_arguments(values), "--address", settings.material_address,
+            "--parts", "auto", "--threads", str(prefs.threads(context))]
     return args, folder
 
 
@@ -74,7 +75,8 @@ def _estimate_key(context):
     s = context.scene.clothbake
     obj = context.active_object
     return json.dumps([s.scene_path, s.material_folder(), obj.name if obj else "",
-                       *material_key(material_values(s)), prefs.threads(context)])
+                       *material_key(material_values(s)), s.material_address,
+                       prefs.threads(context)])
 
 
 def material_estimate_is_current(context):
@@ -134,7 +136,10 @@ def apply_material_to(op, objs, folder, route):
 def _material_summary(folder):
     try:
         info = read_material(folder)
-        return f"baked: {info.texels} texels, {info.k} view and {info.kl} light directions, " \
+        texels = f"{info.texels} texels" if info.address != "crossings" else \
+            f"{info.blocks} blocks of {info.texels} x {info.texels} texels over " \
+            f"{info.ends} x {info.picks} crossings"
+        return f"baked: {texels}, {info.k} view and {info.kl} light directions, " \
                f"rank up to {info.max_rank}: {folder}"
     except ClothbakeError:
         return f"baked: {folder}"

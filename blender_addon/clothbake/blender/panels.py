@@ -248,6 +248,7 @@ class CLOTHBAKE_PT_material(_ObjectPanel, bpy.types.Panel):
         col.prop(settings, "material_dir")
         for setting in MATERIAL_SETTINGS:
             col.prop(settings, setting.prop)
+        col.prop(settings, "material_address")
         col.prop(settings, "material_route")
         _estimate_row(col, material_estimate_is_current(context), settings.material_estimate,
                       CLOTHBAKE_OT_material_estimate)

@@ -498,6 +498,15 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
                     ".blend file)")
     # texels, directions, light_directions, spp, max_error: from the one table.
     __annotations__.update(_material_properties())
+    material_address: bpy.props.EnumProperty(
+        name="Address", default="repeat",
+        items=[("repeat", "Whole repeat", "Texels cover the weave's whole repeat (Texels per "
+                "repeat side): every crossing its own, the size grows with the repeat"),
+               ("crossings", "Per crossing", "One block per distinct crossing neighbourhood, "
+                "addressed per crossing (Texels per crossing side): the size follows the "
+                "weave's variety, not its repeat; for a large draft (a WIF of 48 threads "
+                "and more). Evenly spaced threads")],
+        description="What the material's texels cover (clothbake material --address)")
     material_route: bpy.props.EnumProperty(
         name="Route", default="exact",
         items=[("exact", "Exact", "The reference renderer's sum: emission and transparency, "
