@@ -219,11 +219,11 @@ def _read_crossings(info, m, folder, path):
     info.address = CROSSINGS
     info.ends, info.picks, info.blocks = counts
     info.crossings_file = os.path.join(folder, name)
-    for axis, (family, n) in enumerate(zip(FAMILIES, counts[:2])):
+    for axis, (family, count, n) in enumerate(zip(FAMILIES, ("ends", "picks"), counts[:2])):
         centres = info.centres_mm[family]
         if len(centres) != n:
-            raise ClothbakeError(f"holds {len(centres)} threads; crossings.{'ends' if axis == 0 else 'picks'} "
-                                 f"says {n}", path, f"cloth.threads.{family}.centres_mm")
+            raise ClothbakeError(f"holds {len(centres)} threads; crossings.{count} says {n}",
+                                 path, f"cloth.threads.{family}.centres_mm")
         pitch = info.repeat_mm[axis] / n
         if any(abs((b - a) - pitch) > 1e-3 * pitch for a, b in zip(centres, centres[1:])):
             # The node group places a point among its crossings by
