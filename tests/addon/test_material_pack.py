@@ -274,16 +274,48 @@ def test_addressed_blocks_at_the_node_trees_address(addressed):
                                  for c in ("warp_next", "weft_next")], rtol=1e-3, atol=1e-6)
 
 
-def test_addressed_on_uneven_threads_is_refused_by_name(addressed, tmp_path):
-    """Blender places a point among evenly spaced crossings only: a material
-    whose threads are not is refused naming the field (lookup-render reads
-    it)."""
+def test_addressed_on_uneven_threads_packs_their_spans(addressed, tmp_path):
+    """Threads of their own spacings: the pack writes the span image the
+    nodes place a point with, one row a family, from the manifest's
+    centres; evenly spaced ones need none."""
+    assert mp.read_material(addressed).even == (True, True)
+    assert not mp.pack_material(mp.read_material(addressed), rank=1, dense=3).spans
     bad = tmp_path / "uneven"
     shutil.copytree(addressed, bad)
+    shutil.rmtree(bad / "blender-r1-m3", ignore_errors=True)
     path = bad / "manifest.json"
     m = json.loads(path.read_text())
     m["cloth"]["threads"]["weft"]["centres_mm"][1] += 0.2
     path.write_text(json.dumps(m))
-    with pytest.raises(ClothbakeError) as e:
-        mp.read_material(str(bad))
-    assert e.value.field == "cloth.threads.weft.centres_mm" and "lookup-render" in str(e.value)
+    info = mp.read_material(str(bad))
+    assert info.even == (True, False)
+    pack = mp.pack_material(info, rank=1, dense=3)
+    spans = read(pack.spans)[0][::-1]        # row 0 at the bottom: the warp's
+    for row, family in enumerate(("warp", "weft")):
+        want = mp.span_pixels(info.centres_mm[family], info.repeat_mm[row])
+        np.testing.assert_allclose(spans[row], want, rtol=1e-6)
+
+
+def test_span_image_places_a_point_among_uneven_threads():
+    """material_pack.span_pixels for threads of their own spacings (a real
+    WIF's: d2w_zeros.wif's five ends, mm): the crossing coordinate the nodes
+    compute from a Closest read, e + (u - start) / span, equals the exact
+    one (thread j's span between the midpoints to its neighbours, j + the
+    fraction across it) to within a sample's width times the two widths'
+    difference, and exactly inside every span away from its ends."""
+    centres = [1.06, 3.18, 4.77, 5.83, 6.36]
+    repeat = 7.42
+    width = 1024
+    px = mp.span_pixels(centres, repeat, width)
+    c = np.array(centres) / repeat
+    ext = np.concatenate([[c[-1] - 1], c, [c[0] + 1]])
+    bounds = np.concatenate([0.5 * (ext[:-1] + ext[1:])])          # span ends of threads -1 .. n
+    u = (np.arange(width) + 0.5) / width
+    j = np.searchsorted(bounds, u, side="right") - 1               # thread index (0 .. n)
+    exact = j + (u - bounds[j]) / (bounds[j + 1] - bounds[j])
+    got = px[:, 0] + (u - px[:, 1]) * px[:, 2]
+    spans = np.diff(bounds)
+    slack = (1.0 / width) * (1 / spans.min() - 1 / spans.max())
+    assert np.max(np.abs(got - exact)) <= slack + 1e-5
+    # the stored thread is the exact one (the samples are their pixels' centres)
+    np.testing.assert_array_equal(px[:, 0], j)

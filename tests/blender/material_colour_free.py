@@ -10,7 +10,8 @@ no re-apply (the render changes, and matches lookup-render of a scene in
 that colour), and the update's time for a 48-thread warp stripe and a
 480-thread weft sequence; then a real WIF written over its colour repeat,
 baked over its weave's (written_over_its_colours); a material addressed
-per crossing of a real WIF, and its palette edited (addressed_per_crossing).
+per crossing of a real WIF, and its palette edited (addressed_per_crossing),
+and one of a WIF whose threads have their own spacings (addressed_uneven).
 
     blender -b --factory-startup --python-exit-code 1 -P material_colour_free.py -- \\
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR [MATERIAL_DIR]
@@ -192,6 +193,7 @@ def main():
     written_over_its_colours(import_scene, bilinear_patches, apply_material, read_material)
     addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_material,
                            material_colours)
+    addressed_uneven(import_scene, bilinear_patches, apply_material, read_material)
 
 
 def written_over_its_colours(import_scene, bilinear_patches, apply_material, read_material):
@@ -302,6 +304,43 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
     sheet.append(eevee)
     save_png(np.concatenate(sheet, 1),
              os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_addressed.png"))
+
+
+def addressed_uneven(import_scene, bilinear_patches, apply_material, read_material):
+    """A material addressed per crossing of a real WIF whose threads have
+    their own spacings (d2w_zeros.wif: 5 ends in 4 spacings, 6 picks in 6):
+    the nodes place a point among them through the pack's span image;
+    Cycles against lookup-render."""
+    folder = os.path.join(TMP, "uneven")
+    os.makedirs(folder, exist_ok=True)
+    wif = os.path.join(SOURCE, "testscenes", "wif", "real", "d2w_zeros.wif")
+    with open(os.path.join(folder, "cloth.json"), "w") as f:
+        json.dump({"name": "d2w_zeros", "weave": {"wif": wif}}, f)
+    with open(os.path.join(PAPER, "scene.json")) as f:
+        scene = json.load(f)
+    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
+                               repeats_per_uv=4)
+    path = os.path.join(folder, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    material = os.path.join(folder, "material")
+    t = time.perf_counter()
+    run(["material", path, "-o", material, "--address", "crossings", "--texels", "2",
+         "--directions", "4", "--light-directions", "4", "--spp", "1", "--context", "1",
+         "--quiet"])
+    print(f"uneven: material baked in {time.perf_counter() - t:.1f} s")
+    info = read_material(material)
+    check(info.even == (False, False), f"d2w_zeros's ends and picks are unevenly spaced "
+                                       f"({info.even})")
+    ref = reference(path, material, "uneven")
+    (obj,) = import_scene(path, clear=True, samples=SPP)
+    bpy.context.scene.cycles.use_denoising = False
+    bilinear_patches(obj)
+    apply_material(obj, material, route="exact")
+    got = pair("uneven")
+    compare("Cycles, addressed on unevenly spaced threads, against lookup-render", got, ref)
+    save_png(np.concatenate([ref, got[0]], 1),
+             os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_uneven.png"))
 
 
 run_checks(main)

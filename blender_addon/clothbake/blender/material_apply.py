@@ -331,9 +331,10 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
     next_img = load_data_image(pack.next_coefficients, half=True) if strips is not None \
         else None
     index_img = load_data_image(pack.crossings, half=False) if pack.crossings else None
+    span_img = load_data_image(pack.spans, half=False) if pack.spans else None
     group = build_group(f"clothbake material {info.name or 'cloth'} {key} {len(lights)}L"
                         f"{layout_suffix(kinds)} {route}{owner}", info, pack, coeff, lights_img,
-                        kinds, route, strips, next_img, index_img)
+                        kinds, route, strips, next_img, index_img, span_img)
 
     name = f"clothbake material {obj.name}"
     material = bpy.data.materials.get(name) or bpy.data.materials.new(name)

@@ -91,9 +91,9 @@ def make_strips(obj, info):
         texels, levels = info.texels, info.levels
         if info.address == CROSSINGS:
             # A tap lies in one crossing and takes its threads' colours:
-            # one column a thread, its span exactly (evenly spaced threads,
-            # laid from 0: material_nodes._crossing_address counts them so),
-            # and one level.
+            # one column a thread (material_nodes._crossing_address counts
+            # the taps' crossings, whatever the threads' spacings: column c
+            # is thread c of the colours' repeat), and one level.
             n = len(centres)
             texels, levels = n, 1
             centres = [(i + 0.5) * info.repeat_mm[axis] / n for i in range(n)]

@@ -431,7 +431,8 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
     return uv0, step, Texel(ux, uy, tx, ty, side_texels, level_index)
 
 
-def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, shift=None):
+def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, shift=None,
+                      span_image=None):
     """Steps 2 and 4 for a material addressed per crossing
     (docs/material-format.md, "Addressed per crossing"): every crossing
     spans S_L texels whatever its width, the stochastic bilinear pick is a
@@ -440,9 +441,11 @@ def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, 
     (the pack's crossings.exr: block, its column and row in the tile's grid
     of blocks). Returns (uv0, the step to component k, the taps' crossings
     over all repeats (end, pick): the threads whose colours they take).
-    Threads are evenly spaced (material_manifest refuses others): crossing
-    coordinate n u - offset, offset the first thread's centre over its
-    pitch less 1/2 (its span starts half a pitch before it)."""
+    The crossing coordinate over all repeats: for evenly spaced threads
+    n u - offset, offset the first thread's centre over its pitch less 1/2
+    (its span starts half a pitch before it); otherwise n floor(u) + e +
+    (fract(u) - start) / span, (e, start, 1 / span) read from the pack's
+    span image at fract(u) (material_pack.span_pixels)."""
     vi, view_row = view
     side_texels, pitch, y_level, _, pitch_up = level
     ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
@@ -453,8 +456,21 @@ def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, 
     def tap(coord, axis, xi, column):
         n = (info.ends, info.picks)[axis]
         centres = info.centres_mm[("warp", "weft")[axis]]
-        offset = centres[0] / (info.repeat_mm[axis] / n) - 0.5
-        crossings = g.math("MULTIPLY_ADD", coord, float(n), -offset, column=column)
+        if info.even[axis]:
+            offset = centres[0] / (info.repeat_mm[axis] / n) - 0.5
+            crossings = g.math("MULTIPLY_ADD", coord, float(n), -offset, column=column)
+        else:
+            whole = g.math("FLOOR", coord, column=column)
+            part = g.math("SUBTRACT", coord, whole, column=column)
+            at = g.combine(part, 0.25 + 0.5 * axis, 0.0, column=column)
+            span = g.node("ShaderNodeTexImage", column, image=span_image,
+                          interpolation="Closest", extension="EXTEND",
+                          label=f"{('warp', 'weft')[axis]} spans")
+            g.feed(span.inputs["Vector"], at)
+            e, start, inv = g.separate(span.outputs["Color"], column=column)
+            crossings = g.math("MULTIPLY_ADD", g.math("SUBTRACT", part, start, column=column),
+                               inv, g.math("MULTIPLY_ADD", whole, float(n), e, column=column),
+                               column=column)
         t = g.math("FLOOR", g.math("MULTIPLY_ADD", crossings, side_texels, g.math(
             "SUBTRACT", xi, 0.5, column=column), column=column), column=column)
         crossing = g.math("FLOOR", g.math("DIVIDE", t, side_texels, column=column),
@@ -961,7 +977,7 @@ def layout_suffix(kinds):
 
 
 def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips=None,
-                next_image=None, index_image=None):
+                next_image=None, index_image=None, span_image=None):
     """The node group, reused when one of this name was built from the same
     pack; else built anew (the steps of the module docstring, in order) and
     every material of the old one moved onto it. `kinds`: per light, "POINT"
@@ -969,7 +985,8 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     stands for n suns or point lights. A colour-free material: `strips`
     (Strips, its colour strips) and `next_image` (the pack's next atlas);
     the group then has the colour inputs. A material addressed per crossing
-    (info.address CROSSINGS): `index_image`, the pack's crossings.exr."""
+    (info.address CROSSINGS): `index_image`, the pack's crossings.exr, and on
+    unevenly spaced threads `span_image`, its spans.exr."""
     if isinstance(kinds, int):
         kinds = ["POINT"] * kinds
     key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
@@ -978,6 +995,8 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
         key += f" parallax {info.parallax_depth_mm!r}"
     if index_image is not None:
         key += f" crossings {index_image.name} {info.ends}x{info.picks} {info.blocks}"
+        if span_image is not None:
+            key += f" spans {span_image.name}"
     if strips is not None:
         key += f" {info.parts} {strips.warp.name} {strips.q_warp} {tuple(strips.warp.size)}" \
                f" {strips.weft.name} {strips.q_weft} {tuple(strips.weft.size)}"
@@ -999,7 +1018,7 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
     level = _level(g, gin, info, position, vz, xi3)
     if index_image is not None:
         address = _crossing_address(g, gin, info, pack, view, level, xi4, xi5, index_image,
-                                    shift)
+                                    shift, span_image)
         places = _thread_places(g, address[2], strips, info, 12)
         strip_levels = 1
     else:

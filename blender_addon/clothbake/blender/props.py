@@ -505,7 +505,7 @@ class ClothbakeSceneSettings(bpy.types.PropertyGroup):
                ("crossings", "Per crossing", "One block per distinct crossing neighbourhood, "
                 "addressed per crossing (Texels per crossing side): the size follows the "
                 "weave's variety, not its repeat; for a large draft (a WIF of 48 threads "
-                "and more). Evenly spaced threads")],
+                "and more)")],
         description="What the material's texels cover (clothbake material --address)")
     material_route: bpy.props.EnumProperty(
         name="Route", default="exact",

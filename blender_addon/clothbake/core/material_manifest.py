@@ -60,6 +60,10 @@ class MaterialInfo:
     picks: int = 1
     blocks: int = 1
     crossings_file: str = ""
+    # CROSSINGS only, per family (warp, weft): whether its threads are
+    # evenly spaced (the nodes place a point among them by arithmetic) or not
+    # (through the pack's span image).
+    even: tuple = (True, True)
 
     @property
     def block_grid(self):
@@ -199,7 +203,7 @@ def read_material(folder):
 
 def _read_crossings(info, m, folder, path):
     """A material addressed per crossing: its counts and index file, and
-    threads Blender's nodes can place a point among (uniform spacing)."""
+    whether each family's threads are evenly spaced."""
     if info.parts != SWF:
         raise ClothbakeError(f"must be \"{SWF}\" for a material addressed per crossing",
                              path, "parts")
@@ -219,20 +223,16 @@ def _read_crossings(info, m, folder, path):
     info.address = CROSSINGS
     info.ends, info.picks, info.blocks = counts
     info.crossings_file = os.path.join(folder, name)
+    even = []
     for axis, (family, count, n) in enumerate(zip(FAMILIES, ("ends", "picks"), counts[:2])):
         centres = info.centres_mm[family]
         if len(centres) != n:
             raise ClothbakeError(f"holds {len(centres)} threads; crossings.{count} says {n}",
                                  path, f"cloth.threads.{family}.centres_mm")
         pitch = info.repeat_mm[axis] / n
-        if any(abs((b - a) - pitch) > 1e-3 * pitch for a, b in zip(centres, centres[1:])):
-            # The node group places a point among its crossings by
-            # arithmetic; threads of their own spacings would need a span
-            # lookup it does not build (lookup-render reads them).
-            raise ClothbakeError("are not evenly spaced: Blender reads a material addressed per "
-                                 "crossing on evenly spaced threads only; render it with "
-                                 "'clothbake lookup-render', or bake it with --address repeat",
-                                 path, f"cloth.threads.{family}.centres_mm")
+        even.append(all(abs((b - a) - pitch) <= 1e-3 * pitch
+                        for a, b in zip(centres, centres[1:] + [centres[0] + info.repeat_mm[axis]])))
+    info.even = tuple(even)
 
 
 def _written_repeats(cloth, path):

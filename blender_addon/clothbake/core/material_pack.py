@@ -87,6 +87,7 @@ WORLD_SAMPLES = 1 << 16  # directions per hemisphere of the world factors' quadr
 MAX_WIDTH = 8192        # widest coefficient image: Blender 3.4's Cycles read images
                         # 15232 and 16320 pixels wide as garbage, 13056 right
 MAX_SIDE = 16384        # largest texture side Eevee (Mesa llvmpipe) accepts
+SPAN_WIDTH = 8192       # samples per repeat of the span image (unevenly spaced threads)
 
 
 # --- the light grids (baker/core/bake/direction_grid.cpp, in numpy) --------
@@ -176,6 +177,7 @@ class Pack:
     groups: int           # ceil(rank / 4)
     next_coefficients: str = ""   # colour-free: path of coefficients_next.exr, else ""
     crossings: str = ""   # addressed per crossing: path of crossings.exr, else ""
+    spans: str = ""       # addressed on unevenly spaced threads: path of spans.exr, else ""
 
 
 def level_offset(texels, k, level, by=1):
@@ -269,7 +271,9 @@ def _layout(info, rank, dense):
                 os.path.join(folder, "light_factors.exr"), rank, dense, width, height,
                 per_row, band, groups * info.k * 2 * q, 2 * info.k * q + 2 * info.k, groups,
                 os.path.join(folder, "coefficients_next.exr") if info.parts == SWF else "",
-                os.path.join(folder, "crossings.exr") if info.address == CROSSINGS else "")
+                os.path.join(folder, "crossings.exr") if info.address == CROSSINGS else "",
+                os.path.join(folder, "spans.exr") if info.address == CROSSINGS and
+                not all(info.even) else "")
 
 
 def _is_cached(pack, key):
@@ -278,7 +282,8 @@ def _is_cached(pack, key):
             return json.load(f).get("key") == key and os.path.isfile(pack.coefficients) and \
                 os.path.isfile(pack.light_factors) and \
                 (not pack.next_coefficients or os.path.isfile(pack.next_coefficients)) and \
-                (not pack.crossings or os.path.isfile(pack.crossings))
+                (not pack.crossings or os.path.isfile(pack.crossings)) and \
+                (not pack.spans or os.path.isfile(pack.spans))
     except (OSError, ValueError):
         return False
 
@@ -399,7 +404,42 @@ def _crossings_image(info):
     return np.stack([block, block % bx, block // bx, np.ones_like(block)], -1)
 
 
-def _write_pack(pack, key, coeff, lights, coeff_next=None, crossings=None):
+def span_pixels(centres_mm, repeat_mm, width=SPAN_WIDTH):
+    """One family's row of the span image: sample n at u = (n + 0.5) / width
+    of the repeat holds (e, start, 1 / span, 1) of the thread whose span
+    (between the midpoints to its neighbours' centres, as lookup-render's
+    locate_in_span) holds u: e counted from the repeat's first thread, e =
+    threads for the next repeat's first (whose span may begin before u = 1),
+    start in repeats from the repeat's origin, so that e + (u - start) /
+    span is the crossing coordinate (material_nodes._crossing_address).
+    Near a span's end a sample's thread is the one its centre lies in; the
+    nodes' coordinate then runs on past e + 1 by the same slope, which is
+    the next thread's crossing, exact to the two widths' difference over
+    1 / width."""
+    c = np.asarray(centres_mm, np.float64) / float(repeat_mm)
+    n = len(c)
+    ext = np.concatenate([[c[-1] - 1.0], c, [c[0] + 1.0]])     # threads -1 .. n
+    lo = 0.5 * (ext[:-2] + ext[1:-1])                            # span of thread j
+    hi = 0.5 * (ext[1:-1] + ext[2:])
+    # threads 0 .. n (n: the next repeat's first), their spans
+    lo = np.concatenate([lo, [lo[0] + 1.0]])
+    hi = np.concatenate([hi, [hi[0] + 1.0]])
+    u = (np.arange(width) + 0.5) / width
+    e = np.clip(np.searchsorted(hi, u, side="right"), 0, n)
+    out = np.ones((width, 4), np.float32)
+    out[:, 0] = e
+    out[:, 1] = lo[e]
+    out[:, 2] = 1.0 / (hi[e] - lo[e])
+    return out
+
+
+def _spans_image(info):
+    """The span image: row 0 the warp's (along x), row 1 the weft's."""
+    return np.stack([span_pixels(info.centres_mm[f], info.repeat_mm[a])
+                     for a, f in enumerate(("warp", "weft"))])
+
+
+def _write_pack(pack, key, coeff, lights, coeff_next=None, crossings=None, spans=None):
     """The pack's folder, written as a temporary sibling and renamed over
     the old one (the program's NAME.tmp-PID / NAME.old-PID names)."""
     folder = pack.folder
@@ -413,6 +453,8 @@ def _write_pack(pack, key, coeff, lights, coeff_next=None, crossings=None):
             _write_exr(os.path.join(tmp, "coefficients_next.exr"), coeff_next, "half")
         if crossings is not None:
             _write_exr(os.path.join(tmp, "crossings.exr"), crossings, "float")
+        if spans is not None:
+            _write_exr(os.path.join(tmp, "spans.exr"), spans, "float")
         with open(os.path.join(tmp, "pack.json"), "w") as fh:
             json.dump({"key": key, "rank": pack.rank, "dense": pack.dense, "width": pack.width,
                        "height": pack.height, "per_row": pack.per_row, "band": pack.band,
@@ -437,6 +479,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     if _is_cached(pack, key):
         return pack
     crossings = _crossings_image(info) if pack.crossings else None
+    spans = _spans_image(info) if pack.spans else None
     coeff = np.zeros((pack.height, pack.width, 4), np.float32)
     coeff_next = np.zeros_like(coeff) if pack.next_coefficients else None
     for level in range(info.levels):
@@ -446,7 +489,7 @@ def pack_material(info, rank=None, dense=DEFAULT_DENSE, progress=None):
     lights = _light_factor_image(info, pack)
     if progress:
         progress(info.levels / (info.levels + 1))
-    _write_pack(pack, key, coeff, lights, coeff_next, crossings)
+    _write_pack(pack, key, coeff, lights, coeff_next, crossings, spans)
     if progress:
         progress(1.0)
     return pack
