@@ -170,10 +170,13 @@ def chart(out, work_dirs):
                 colour = "C0" if key == "scene" else "C1"
                 ax.plot(mb, 100 * r[key]["pixel"], marker, color=colour,
                         markerfacecolor="none" if hollow else colour)
-            ax.annotate(f"{os.path.splitext(r['draft'])[0]} ({r['neighbourhoods']} blocks)" +
-                        (", no randomness" if hollow else ""),
+            fields = r.get("bake_report", {}).get("light_fields", "interpolated")
+            ax.annotate(f"{os.path.splitext(r['draft'])[0]} ({r['neighbourhoods']} blocks, "
+                        f"{fields})" + (", no randomness" if hollow else ""),
                         (mb, 100 * r["scene"]["pixel"]), textcoords="offset points",
-                        xytext=(-8, 8 if hollow else -14), ha="right", fontsize=7)
+                        xytext=(-10, 8 if hollow or fields != "interpolated" else -14),
+                        ha="right", fontsize=7,
+                        arrowprops=dict(arrowstyle="-", lw=0.5, color="grey"))
             for key, marker in (("scene", "^"), ("recoloured", "v")):
                 if "blender" in r[key]:
                     ax.plot(mb, 100 * r[key]["blender"]["pixel"], marker,
