@@ -196,6 +196,24 @@ def main():
     addressed_uneven(import_scene, bilinear_patches, apply_material, read_material)
 
 
+def paper_scene_with(name, cloth, repeats_per_uv):
+    """TMP/name/scene.json: the paper scene's folds, camera and lights with
+    `cloth` (a cloth spec, written beside it) at `repeats_per_uv`. Returns
+    (folder, the scene as a dict, its path)."""
+    folder = os.path.join(TMP, name)
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "cloth.json"), "w") as f:
+        json.dump(cloth, f)
+    with open(os.path.join(PAPER, "scene.json")) as f:
+        scene = json.load(f)
+    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
+                               repeats_per_uv=repeats_per_uv)
+    path = os.path.join(folder, "scene.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return folder, scene, path
+
+
 def written_over_its_colours(import_scene, bilinear_patches, apply_material, read_material):
     """A real WIF written over its colour repeat (Handweaving.net 8452: 84
     ends and 100 picks whose lifts repeat every 28 and 50) bakes the weave's
@@ -203,20 +221,10 @@ def written_over_its_colours(import_scene, bilinear_patches, apply_material, rea
     repeats_per_uv counts the draft as written (84 ends per UV here), and the
     add-on reads the material at 3 x 2 times it (an anisotropic UV scale):
     Cycles against lookup-render, which maps by the scene's own cloth."""
-    folder = os.path.join(TMP, "wif")
-    os.makedirs(folder, exist_ok=True)
     cloth = {"name": "hw_8452",
              "weave": {"wif": os.path.join(SOURCE, "testscenes", "wif", "real", "hw_8452.wif")},
              "resolution": {"cells_per_thread": 2}}
-    with open(os.path.join(folder, "cloth.json"), "w") as f:
-        json.dump(cloth, f)
-    with open(os.path.join(PAPER, "scene.json")) as f:
-        scene = json.load(f)
-    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
-                               repeats_per_uv=1)
-    path = os.path.join(folder, "scene.json")
-    with open(path, "w") as f:
-        json.dump(scene, f)
+    folder, _, path = paper_scene_with("wif", cloth, 1)
     material = os.path.join(folder, "material")
     run(["material", path, "-o", material, "--texels", "16", "--directions", "8",
          "--light-directions", "6", "--spp", "2", "--field-supersample", "1",
@@ -244,18 +252,9 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
     on the paper scene's folds): Cycles against lookup-render in the draft's
     colours; then a palette colour edited in the panel, no re-apply: the
     render follows, against lookup-render of the object's cloth as edited."""
-    folder = os.path.join(TMP, "addressed")
-    os.makedirs(folder, exist_ok=True)
     wif = os.path.join(SOURCE, "testscenes", "wif", "real", "wi_32twill.wif")
-    with open(os.path.join(folder, "cloth.json"), "w") as f:
-        json.dump({"name": "wi_32twill", "weave": {"wif": wif}}, f)
-    with open(os.path.join(PAPER, "scene.json")) as f:
-        scene = json.load(f)
-    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
-                               repeats_per_uv=1)
-    path = os.path.join(folder, "scene.json")
-    with open(path, "w") as f:
-        json.dump(scene, f)
+    folder, scene, path = paper_scene_with(
+        "addressed", {"name": "wi_32twill", "weave": {"wif": wif}}, 1)
     material = os.path.join(folder, "material")
     run(["material", path, "-o", material, "--address", "crossings", "--texels", "4",
          "--directions", "6", "--light-directions", "6", "--spp", "1", "--context", "1",
@@ -311,18 +310,9 @@ def addressed_uneven(import_scene, bilinear_patches, apply_material, read_materi
     their own spacings (d2w_zeros.wif: 5 ends in 4 spacings, 6 picks in 6):
     the nodes place a point among them through the pack's span image;
     Cycles against lookup-render."""
-    folder = os.path.join(TMP, "uneven")
-    os.makedirs(folder, exist_ok=True)
     wif = os.path.join(SOURCE, "testscenes", "wif", "real", "d2w_zeros.wif")
-    with open(os.path.join(folder, "cloth.json"), "w") as f:
-        json.dump({"name": "d2w_zeros", "weave": {"wif": wif}}, f)
-    with open(os.path.join(PAPER, "scene.json")) as f:
-        scene = json.load(f)
-    scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth="cloth.json",
-                               repeats_per_uv=4)
-    path = os.path.join(folder, "scene.json")
-    with open(path, "w") as f:
-        json.dump(scene, f)
+    folder, _, path = paper_scene_with(
+        "uneven", {"name": "d2w_zeros", "weave": {"wif": wif}}, 4)
     material = os.path.join(folder, "material")
     t = time.perf_counter()
     run(["material", path, "-o", material, "--address", "crossings", "--texels", "2",
