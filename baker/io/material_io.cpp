@@ -135,6 +135,9 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
                  {"step_cells", o.step_cells},
                  {"cutoff", o.cutoff},
                  {"light_roulette", o.light_roulette}};
+  // Written where the map stretches the repeat, so that an unstretched
+  // material's manifest keeps its bytes.
+  if (o.aspect != 1.0f) j["optics"]["aspect"] = o.aspect;
   j["max_rank"] = m.max_rank;
   json ranks = json::array(), errors = json::array();
   for (int v = 0; v < m.view_count(); ++v) {
@@ -257,6 +260,7 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
 MaterialOptics read_optics(const JsonObject& o) {
   MaterialOptics op;
   o.read("depth_scale", op.depth_scale);
+  o.read("aspect", op.aspect);  // absent (a material from before it was kept): 1
   o.read("extinction_per_mm", op.extinction_per_mm);
   read_enum(o, "shading", k_shading_names, op.shading);
   read_enum(o, "fiber_model", k_fiber_model_names, op.fiber_model);
@@ -268,6 +272,7 @@ MaterialOptics read_optics(const JsonObject& o) {
   o.read("light_roulette", op.light_roulette);
   if (!(op.depth_scale > 0.0f) || !std::isfinite(op.depth_scale))
     o.fail(o.field("depth_scale"), "must be positive");
+  if (!(op.aspect > 0.0f) || !std::isfinite(op.aspect)) o.fail(o.field("aspect"), "must be positive");
   if (!(op.extinction_per_mm > 0.0f) || !std::isfinite(op.extinction_per_mm))
     o.fail(o.field("extinction_per_mm"), "must be positive");
   return op;

@@ -203,6 +203,28 @@ TEST(MaterialIo, AddressedPerCrossingRoundTrip) {
   EXPECT_NE(err.find("address"), std::string::npos) << err;
 }
 
+// A map's stretch between the texture's axes (optics.aspect) reads back
+// exactly; an unstretched material writes none, so its manifest keeps the
+// bytes it had before the aspect was kept, and reads back as 1.
+TEST(MaterialIo, AStretchReadsBackAndNoneIsNotWritten) {
+  TempDir tmp;
+  const std::string plain = (tmp.path / "plain").string(), stretched = (tmp.path / "stretched").string();
+  ClothMaterial m = small_material();
+  ASSERT_EQ(m.optics.aspect, 1.0f);
+  write_material(plain, m, small_info());
+  m.optics.aspect = 5.4129791f;
+  write_material(stretched, m, small_info());
+  auto manifest = [](const std::string& dir) {
+    std::ifstream in(fs::path(dir) / "manifest.json");
+    return nlohmann::json::parse(in);
+  };
+  EXPECT_FALSE(manifest(plain)["optics"].contains("aspect"));
+  EXPECT_TRUE(manifest(stretched)["optics"].contains("aspect"));
+  MaterialInfo info;
+  EXPECT_EQ(read_material(plain, info).optics.aspect, 1.0f);
+  EXPECT_EQ(read_material(stretched, info).optics.aspect, 5.4129791f);
+}
+
 TEST(MaterialIo, SameBytesTwice) {
   TempDir tmp;
   write_material((tmp.path / "a").string(), small_material(), small_info());

@@ -87,6 +87,12 @@ V3f ClothMaterial::material_from_texture(const V3f& d) const {
   return V3f(d.x, d.y, d.z / optics.depth_scale).normalized();
 }
 
+V3f ClothMaterial::local_from_material(const V3f& d) const {
+  if (optics.aspect == 1.0f) return d;  // the same bits a material without a stretch always had
+  const float s = std::sqrt(optics.aspect);
+  return V3f(d.x * s, d.y / s, d.z).normalized();
+}
+
 V3f ClothMaterial::texture_from_material(const V3f& d) const {
   return V3f(d.x, d.y, d.z * optics.depth_scale).normalized();
 }

@@ -106,6 +106,12 @@ class ClothMaterial {
 
   /// A texture-space direction in the material's frame (unit).
   Imath::V3f material_from_texture(const Imath::V3f& d_texture) const;
+  /// A direction in the material's frame in the local (shading) frame, the
+  /// world's true angles at a map of optics.aspect: (d.x * sqrt(aspect),
+  /// d.y / sqrt(aspect), d.z), normalised (texture (x, y, z) over
+  /// mm_per_world, scaled by sqrt(mm_per_world.x * mm_per_world.y)). The
+  /// identity at aspect 1.
+  Imath::V3f local_from_material(const Imath::V3f& d_material) const;
   /// The material's frame back to texture space (unit).
   Imath::V3f texture_from_material(const Imath::V3f& d_material) const;
 

@@ -168,8 +168,9 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
   in.shader = &shader;
   in.fields = &fields;
   in.to_light_local = light_local;
-  in.to_eye_local = to_eye;
+  in.to_eye_local = material.local_from_material(to_eye);
   in.depth_scale = o.depth_scale;
+  in.sqrt_aspect = std::sqrt(o.aspect);
   in.dir_texture = -material.texture_from_material(to_eye);
   // The entry as ClothScene::shade_surface places it: the top-face point
   // from the front; from behind, the bottom face below it along the ray.
@@ -330,7 +331,7 @@ void build_fiber_table(const ClothMaterial& material, const FiberShader& shader,
                        std::span<const V3f> light_local, int view, FiberLightTable& table,
                        NodeMarchCounts& counts) {
   const int k = material.settings.fiber_tangent_nodes;
-  table.build(shader, light_local, material.view_grid.bake_direction(view), k);
+  table.build(shader, light_local, material.local_from_material(material.view_grid.bake_direction(view)), k);
   counts.fiber_evaluations += uint64_t(k) * uint64_t(k) * uint64_t(light_local.size());
 }
 
@@ -411,10 +412,12 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   const int n_views = int(views.size());
 
   // Step 1: the light fields, one per light node, over the whole repeat.
-  const std::vector<V3f> light_local = material_light_directions(material);
-  std::vector<V3f> light_texture(light_local.size());
-  for (size_t n = 0; n < light_local.size(); ++n)
-    light_texture[n] = material.texture_from_material(light_local[n]);
+  const std::vector<V3f> light_material = material_light_directions(material);
+  std::vector<V3f> light_local(light_material.size()), light_texture(light_material.size());
+  for (size_t n = 0; n < light_material.size(); ++n) {
+    light_local[n] = material.local_from_material(light_material[n]);
+    light_texture[n] = material.texture_from_material(light_material[n]);
+  }
   const uint64_t fields_bytes = material_field_bytes(material, volume);
   if (fields_bytes > memory_budget)
     throw InputError("memory", "the light fields need " + std::to_string(fields_bytes >> 20) +

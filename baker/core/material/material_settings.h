@@ -109,6 +109,13 @@ struct MaterialOptics {
   /// stretched in depth. Directions in the material's frame are carried to
   /// texture space by (x, y, z * depth_scale).
   float depth_scale = 1.0f;
+  /// Texture mm per world unit along texture y over along x (mm_per_world.y
+  /// / mm_per_world.x): how the map stretches the repeat between its axes
+  /// (a draft of 91 ends and 480 picks at one repeats_per_uv on square UVs:
+  /// 5.3). The material's frame is texture space (z scaled by depth_scale);
+  /// the fibres are shaded in the world's true angles, which this carries
+  /// them to (ClothMaterial::local_from_material). 1: no stretch.
+  float aspect = 1.0f;
   float extinction_per_mm = 40.0f;
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};

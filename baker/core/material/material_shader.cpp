@@ -41,16 +41,21 @@ MaterialOptics object_optics(const ClothScene& prepared, int o) {
   optics.step_cells = scene.settings.step_cells;
   optics.cutoff = scene.settings.cutoff;
   optics.light_roulette = scene.settings.light_roulette;
-  double sum = 0.0;
+  double sum = 0.0, sum_aspect = 0.0;
   int n = 0;
   for (int q = 0; q < prepared.quad_count(o); ++q) {
     const V3f m = prepared.patch(o, q).frame(0.5f, 0.5f).mm_per_world;
     const float along = std::sqrt(std::fabs(m.x * m.y));
-    if (!(along > 0.0f) || !std::isfinite(m.z / along)) continue;
+    if (!(along > 0.0f) || !std::isfinite(m.z / along) || !std::isfinite(m.y / m.x)) continue;
     sum += double(m.z / along);
+    sum_aspect += double(std::fabs(m.y / m.x));
     ++n;
   }
   optics.depth_scale = n > 0 ? float(sum / n) : 1.0f;
+  // A stretch within a part in 10^4 of none is none: the same bytes as a
+  // material baked before the aspect was kept.
+  const float aspect = n > 0 ? float(sum_aspect / n) : 1.0f;
+  optics.aspect = std::fabs(aspect - 1.0f) < 1e-4f ? 1.0f : aspect;
   return optics;
 }
 
@@ -87,6 +92,15 @@ void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial&
                          str(k_depth_scale_tolerance * 100.0f) +
                          "%): the thickness, repeats_per_uv or the mesh's UV scale differ; "
                          "bake a material from this scene");
+  const float rel_aspect = std::fabs(have.aspect / want.aspect - 1.0f);
+  if (!(rel_aspect <= k_depth_scale_tolerance))
+    throw InputError(obj + ".repeats_per_uv",
+                     "gives an aspect (texture mm per world unit along texture y over along x) of " +
+                         str(have.aspect) + ", the material's is " + str(want.aspect) + " (" +
+                         str(rel_aspect * 100.0f) + "% apart, over " +
+                         str(k_depth_scale_tolerance * 100.0f) +
+                         "%): the draft's ends and picks or the mesh's UVs are stretched "
+                         "differently; bake a material from this scene");
   if (std::fabs(have.extinction_per_mm / want.extinction_per_mm - 1.0f) > 1e-6f)
     throw InputError(obj + ".extinction_per_mm", "is " + str(have.extinction_per_mm) +
                                                      ", the material was baked at " +

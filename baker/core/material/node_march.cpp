@@ -60,7 +60,9 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
                         const Cell* cells) {
   const size_t n_lights = in.to_light_local.size();
   const V3f tangent_local =
-      V3f(cell.tangent.x, cell.tangent.y, cell.tangent.z / in.depth_scale).normalized();
+      V3f(cell.tangent.x * in.sqrt_aspect, cell.tangent.y / in.sqrt_aspect,
+          cell.tangent.z / in.depth_scale)
+          .normalized();
   // RGB, or the colour-free parts: the specular response, then the diffuse
   // one in the slot of the cell's yarn family.
   const float diffuse_part = cell.diffuse.x * (1.0f / k_neutral_albedo);

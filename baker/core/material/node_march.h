@@ -55,9 +55,14 @@ struct NodeMarchInput : SampleMarchInput {
   /// The fibre response per light node by tangent (null: the fibre model
   /// itself, per cell and light node).
   const FiberLightTable* fiber_table = nullptr;
-  std::span<const Imath::V3f> to_light_local;  ///< per light node, unit, the material's frame
-  Imath::V3f to_eye_local;  ///< unit, the material's frame
-  float depth_scale = 1.0f;  ///< carries fibre tangents to the frame: (t.x, t.y, t.z / depth_scale)
+  /// Per light node, unit, the local (shading) frame: the material's frame
+  /// through ClothMaterial::local_from_material.
+  std::span<const Imath::V3f> to_light_local;
+  Imath::V3f to_eye_local;  ///< unit, the local (shading) frame
+  /// Carry fibre tangents to the local frame:
+  /// (t.x * sqrt(aspect), t.y / sqrt(aspect), t.z / depth_scale), normalised.
+  float depth_scale = 1.0f;
+  float sqrt_aspect = 1.0f;
   ShadingMode shading = ShadingMode::Fiber;
   Imath::V3f isotropic_albedo{0.8f, 0.8f, 0.8f};
   /// Colour-free parts (fibre shading, a volume made colour-free): each
