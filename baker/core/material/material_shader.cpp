@@ -92,15 +92,10 @@ void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial&
                          str(k_depth_scale_tolerance * 100.0f) +
                          "%): the thickness, repeats_per_uv or the mesh's UV scale differ; "
                          "bake a material from this scene");
-  const float rel_aspect = std::fabs(have.aspect / want.aspect - 1.0f);
-  if (!(rel_aspect <= k_depth_scale_tolerance))
-    throw InputError(obj + ".repeats_per_uv",
-                     "gives an aspect (texture mm per world unit along texture y over along x) of " +
-                         str(have.aspect) + ", the material's is " + str(want.aspect) + " (" +
-                         str(rel_aspect * 100.0f) + "% apart, over " +
-                         str(k_depth_scale_tolerance * 100.0f) +
-                         "%): the draft's ends and picks or the mesh's UVs are stretched "
-                         "differently; bake a material from this scene");
+  // The map's stretch between the texture's axes (optics.aspect) is not
+  // checked: a garment's UV islands are stretched each their own way, and
+  // the material shades them all at the stretch it was baked for, as the
+  // add-on does (exact where the two agree; docs/material.md).
   if (std::fabs(have.extinction_per_mm / want.extinction_per_mm - 1.0f) > 1e-6f)
     throw InputError(obj + ".extinction_per_mm", "is " + str(have.extinction_per_mm) +
                                                      ", the material was baked at " +
