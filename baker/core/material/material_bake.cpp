@@ -128,6 +128,21 @@ std::vector<V3f> material_light_directions(const ClothMaterial& material) {
   return out;
 }
 
+LightNodeDirections light_node_directions(const ClothMaterial& material,
+                                          std::span<const int> nodes) {
+  LightNodeDirections out;
+  auto add = [&](int n) {
+    const V3f d_material = material.light_grid.bake_direction(n);
+    out.local.push_back(material.local_from_material(d_material));
+    out.texture.push_back(material.texture_from_material(d_material));
+  };
+  if (nodes.empty())
+    for (int n = 0; n < material.light_count(); ++n) add(n);
+  else
+    for (int n : nodes) add(n);
+  return out;
+}
+
 NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTexture& volume,
                                const FiberShader& shader, const LightFieldSet& fields,
                                std::span<const V3f> light_local, int view, int x, int y, int k) {
@@ -412,12 +427,9 @@ ClothMaterial bake_material(const VolumeTexture& volume, const FiberShader& shad
   const int n_views = int(views.size());
 
   // Step 1: the light fields, one per light node, over the whole repeat.
-  const std::vector<V3f> light_material = material_light_directions(material);
-  std::vector<V3f> light_local(light_material.size()), light_texture(light_material.size());
-  for (size_t n = 0; n < light_material.size(); ++n) {
-    light_local[n] = material.local_from_material(light_material[n]);
-    light_texture[n] = material.texture_from_material(light_material[n]);
-  }
+  const LightNodeDirections light_nodes = light_node_directions(material);
+  const std::vector<V3f>& light_local = light_nodes.local;
+  const std::vector<V3f>& light_texture = light_nodes.texture;
   const uint64_t fields_bytes = material_field_bytes(material, volume);
   if (fields_bytes > memory_budget)
     throw InputError("memory", "the light fields need " + std::to_string(fields_bytes >> 20) +

@@ -14,6 +14,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
+#include <vector>
 
 #include "core/fiber/fiber_shader.h"
 #include "core/material/cloth_material.h"
@@ -94,6 +96,18 @@ NodeMarchInput material_sample(const ClothMaterial& material, const VolumeTextur
 
 /// The light nodes' bake directions in the material's frame.
 std::vector<Imath::V3f> material_light_directions(const ClothMaterial& material);
+
+/// Light nodes in the two frames the bake uses them in: local, where the
+/// fibres are shaded (ClothMaterial::local_from_material: the world's angles
+/// on a stretched map), and texture space, along which their light fields
+/// are marched.
+struct LightNodeDirections {
+  std::vector<Imath::V3f> local;
+  std::vector<Imath::V3f> texture;
+};
+/// The light nodes `nodes` (every node when empty), in that order.
+LightNodeDirections light_node_directions(const ClothMaterial& material,
+                                          std::span<const int> nodes = {});
 
 /// A material with the settings' grids, the volume's extent and hash, and
 /// no table: what bake_material fills.

@@ -52,16 +52,14 @@ struct ProbeLights {
 /// them alone, for the marches' cost per light node.
 ProbeLights probe_fields(const ClothMaterial& material, const VolumeTexture& volume,
                          MaterialEstimate& e) {
-  const std::vector<V3f> light_material = material_light_directions(material);
   const int L = material.light_count(), P = std::min(L, k_probe_light_nodes);
   const MaterialSettings& s = material.settings;
   const float sigma = material.optics.extinction_per_mm;
   e.probe_light_nodes = P;
   ProbeLights p;
-  for (int n : pick_nodes(L, P)) {
-    p.local.push_back(material.local_from_material(light_material[size_t(n)]));
-    p.texture.push_back(material.texture_from_material(light_material[size_t(n)]));
-  }
+  LightNodeDirections picked = light_node_directions(material, pick_nodes(L, P));
+  p.local = std::move(picked.local);
+  p.texture = std::move(picked.texture);
   // Per crossing: the first block's window, times the blocks (their windows
   // are alike in size).
   const std::vector<BlockWindow> windows = block_windows(material, volume);

@@ -322,9 +322,9 @@ TEST(Material, LookupAtNodesEqualsTheMarch) {
   Fixture f;
   const MaterialSettings s = tiny_settings();
   const ClothMaterial m = bake_tiny(f, s);
-  const std::vector<V3f> light_local = material_light_directions(m);
-  std::vector<V3f> light_texture;
-  for (const V3f& d : light_local) light_texture.push_back(m.texture_from_material(d));
+  const LightNodeDirections light_nodes = light_node_directions(m);
+  const std::vector<V3f>& light_local = light_nodes.local;
+  const std::vector<V3f>& light_texture = light_nodes.texture;
   const LightFieldSet fields =
       LightFieldSet::build(f.volume, light_texture, m.optics.extinction_per_mm, s.field_supersample,
                            m.settings.light_fields);
