@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Light fields where cells are opaque (docs/material.md, "Opaque cells"):
 
-    scripts/material/opaque_cells.py CLOTHBAKE WORK_DIR [--chart OUT.png]
+    scripts/material/opaque_cells.py CLOTHBAKE WORK_DIR [--chart OUT.png] [--only N ...]
 
 A plain weave of thick yarn (2.12 mm apart and as wide, 0.87 mm thick, as
 the overshot tw_honeysuckle's threads; randomness out) on the paper scene's
@@ -14,7 +14,8 @@ interpolated fields at 1, 2 and 4 points per cell edge): the whole-repeat
 material's bake time (one run) and lookup-render at 64 spp against the
 quarter-step reference at 64 spp, `clothbake compare`'s relative RMSE and
 the image's mean over the reference's. Writes WORK_DIR/results.json; with
---chart, error against bake time.
+--chart, error against bake time; --only runs those rows of METHODS (from 0:
+3 is the layer march) and keeps the other rows a results.json already holds.
 """
 import argparse
 import json
@@ -40,7 +41,7 @@ def mean_ratio(ref, img):
     return float(b[cloth].mean() / a[cloth].mean())
 
 
-def measure(exe, work):
+def measure(exe, work, only=None):
     cloth = {"name": "plain_thick", "weave": {"pattern": "plain"},
              "density": {"noise_amplitude": 0.0}, "shading": {"variation": 0.0},
              "warp": dict(YARN), "weft": dict(YARN)}
@@ -53,8 +54,14 @@ def measure(exe, work):
     ref = os.path.join(work, "ref.exr")
     if not os.path.exists(ref):
         run([exe, "render", os.path.join(work, "ref.json"), "-o", ref, "--spp", "64", "--quiet"])
+    old = os.path.join(work, "results.json")
+    kept = {r["method"]: r for r in json.load(open(old))} if only and os.path.exists(old) else {}
     out = []
     for n, (label, flags) in enumerate(METHODS):
+        if only is not None and n not in only:
+            if label in kept:
+                out.append(kept[label])
+            continue
         mat = os.path.join(work, f"material_{n}")
         t, text = run([exe, "material", os.path.join(work, "scene.json"), "-o", mat, "--quiet"]
                       + flags)
@@ -104,10 +111,11 @@ def main():
     ap.add_argument("exe")
     ap.add_argument("work")
     ap.add_argument("--chart", help="PNG: error against bake time")
+    ap.add_argument("--only", type=int, nargs="+", help="rows of METHODS to run (from 0)")
     a = ap.parse_args()
     work = os.path.abspath(a.work)
     os.makedirs(work, exist_ok=True)
-    results = measure(os.path.abspath(a.exe), work)
+    results = measure(os.path.abspath(a.exe), work, a.only)
     if a.chart:
         chart(results, a.chart)
     return 0

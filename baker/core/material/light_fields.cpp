@@ -248,8 +248,21 @@ void LightFieldSet::depths_layer_march(const V3f& p, float* depth) const {
     const int xb = xa + 1 == m_nx ? 0 : xa + 1, yb = ya + 1 == m_ny ? 0 : ya + 1;
     const float* row_a = m_tau.data() + ((size_t(kz) * m_ny + ya) * m_nx) * L + l;
     const float* row_b = m_tau.data() + ((size_t(kz) * m_ny + yb) * m_nx) * L + l;
-    const float face = (row_a[xa * L] * (1 - fx) + row_a[xb * L] * fx) * (1 - fy) +
-                       (row_b[xa * L] * (1 - fx) + row_b[xb * L] * fx) * fy;
+    // Bilinear in transmittance, not in depth: across a yarn's shadow edge
+    // the face's depth jumps by several within one field cell, and depth
+    // interpolated there puts the shadow's exp(-depth) on the lit side
+    // (darker on the mean); transmittance interpolated keeps the edge's mean
+    // light. Equal corners (a homogeneous slab) give their depth exactly.
+    const float d00 = row_a[xa * L], d10 = row_a[xb * L], d01 = row_b[xa * L],
+                d11 = row_b[xb * L];
+    float face;
+    if (d00 == d10 && d00 == d01 && d00 == d11) {
+      face = d00;
+    } else {
+      const float lit = (std::exp(-d00) * (1 - fx) + std::exp(-d10) * fx) * (1 - fy) +
+                        (std::exp(-d01) * (1 - fx) + std::exp(-d11) * fx) * fy;
+      face = lit > 0.0f ? -std::log(lit) : k_opaque_optical_depth;
+    }
     // Through the sample's layer to that face, cell by cell (a 2-D DDA: the
     // layer's cells are constant in z), as the shadow march takes it.
     float along = 0.0f, t_now = 0.0f, lx = ux * m_spacing.x, ly = uy * m_spacing.y;

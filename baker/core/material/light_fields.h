@@ -21,8 +21,10 @@
 ///  - LayerMarch: optical depth at the face planes between layers; a sample
 ///    marches its own layer toward each light cell by cell (the cells'
 ///    densities are held) to the face, and reads the face's depth where the
-///    light's ray crosses it, bilinear. Exact inside the sample's layer,
-///    where the interpolation's error was; about 6 x the march's time.
+///    light's ray crosses it, bilinear in transmittance (the face's shadow
+///    edges are as sharp as the cells': depth interpolated across them
+///    darkened the mean). Exact inside the sample's layer, where the
+///    interpolation's error was; about 6 x the march's time.
 
 #include <cstddef>
 #include <span>
