@@ -399,17 +399,39 @@ def _level(g, gin, info, position, vz, xi):
     return side_texels, pitch, y_level, level, pitch_up
 
 
+def _repeat_coords(g, gin, shift):
+    """The UV map in repeats (x, y), shifted by the view node's parallax
+    (_parallax_shift, in repeats) when `shift` is not None."""
+    ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
+    if shift is not None:
+        ux = g.math("ADD", ux, shift[0], column=7)
+        uy = g.math("ADD", uy, shift[1], column=7)
+    return ux, uy
+
+
+def _tile_uv(g, pack, view, level, tx, ty, k):
+    """Step 4: the pack's UV of component 0's pixel (tx, ty) in the view
+    node's tile on the level, and the step to component k: + (k % per_row)
+    K P_L across and (k // per_row) bands up."""
+    vi, view_row = view
+    _, pitch, y_level, _, pitch_up = level
+    px0 = g.math("MULTIPLY_ADD", vi, pitch, tx, column=11)
+    py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch_up, ty, column=11), y_level,
+                 column=11)
+    uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
+                    g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
+    step = g.combine(g.math("MULTIPLY", pitch, float(k) / pack.width, column=12),
+                     float(pack.band) / pack.height, 0.0, column=12)
+    return uv0, step
+
+
 def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
     """Steps 2 and 4: the texel (periodic, stochastic bilinear) and the
     address of component 0's tile; returns (uv0, the step to component k,
     Texel: where the pick landed, for the colour strips). `shift`: the view
     node's parallax shift in repeats (_parallax_shift), or None."""
-    vi, view_row = view
-    side_texels, pitch, y_level, level_index, _ = level
-    ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
-    if shift is not None:
-        ux = g.math("ADD", ux, shift[0], column=7)
-        uy = g.math("ADD", uy, shift[1], column=7)
+    side_texels, _, _, level_index, _ = level
+    ux, uy = _repeat_coords(g, gin, shift)
 
     def texel(coord, xi, column):
         t = g.math("MULTIPLY", g.math("FRACT", coord, column=column), side_texels, column=column)
@@ -421,13 +443,7 @@ def _texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
 
     tx = texel(ux, xi_x, 10)
     ty = texel(uy, xi_y, 10)
-    px0 = g.math("MULTIPLY_ADD", vi, pitch, tx, column=11)
-    py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch, ty, column=11), y_level, column=11)
-    uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
-                    g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
-    # component k at + (k % per_row) K P_L across and (k // per_row) bands up
-    step = g.combine(g.math("MULTIPLY", pitch, float(k) / pack.width, column=12),
-                     float(pack.band) / pack.height, 0.0, column=12)
+    uv0, step = _tile_uv(g, pack, view, level, tx, ty, k)
     return uv0, step, Texel(ux, uy, tx, ty, side_texels, level_index)
 
 
@@ -446,12 +462,8 @@ def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, 
     (its span starts half a pitch before it); otherwise n floor(u) + e +
     (fract(u) - start) / span, (e, start, 1 / span) read from the pack's
     span image at fract(u) (material_pack.span_pixels)."""
-    vi, view_row = view
-    side_texels, pitch, y_level, _, pitch_up = level
-    ux, uy, _ = g.separate(g.scale(gin["UV"], gin["Repeats per UV"], 6), 7)
-    if shift is not None:
-        ux = g.math("ADD", ux, shift[0], column=7)
-        uy = g.math("ADD", uy, shift[1], column=7)
+    side_texels = level[0]
+    ux, uy = _repeat_coords(g, gin, shift)
 
     def tap(coord, axis, xi, column):
         n = (info.ends, info.picks)[axis]
@@ -493,13 +505,7 @@ def _crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, 
                 column=11)
     ty = g.math("ADD", g.math("MULTIPLY_ADD", block_y, side_texels, ly, column=11), 1.5,
                 column=11)
-    px0 = g.math("MULTIPLY_ADD", vi, pitch, tx, column=11)
-    py0 = g.math("ADD", g.math("MULTIPLY_ADD", view_row, pitch_up, ty, column=11), y_level,
-                 column=11)
-    uv0 = g.combine(g.math("DIVIDE", px0, float(pack.width), column=12),
-                    g.math("DIVIDE", py0, float(pack.height), column=12), 0.0, column=12)
-    step = g.combine(g.math("MULTIPLY", pitch, float(info.k) / pack.width, column=12),
-                     float(pack.band) / pack.height, 0.0, column=12)
+    uv0, step = _tile_uv(g, pack, view, level, tx, ty, info.k)
     return uv0, step, (end, pick)
 
 
