@@ -42,6 +42,25 @@ MaterialInfo small_info() {
   return info;
 }
 
+/// A tiny colour-free material of `spec` (16 x 16 x 8 cells, 2 x 2
+/// directions, one sample), its cloth and palette set as `clothbake
+/// material` sets them; `s` gives texels, address and context.
+ClothMaterial small_colour_free(ClothSpec spec, MaterialSettings s) {
+  spec.resolution = {16, 16, 8, 1};
+  const ClothSpec free = colour_free(spec);
+  const VolumeTexture volume = generate_volume(free, uint64_t(1) << 32);
+  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
+  s.directions = 2;
+  s.light_directions = 2;
+  s.spp = 1;
+  s.field_supersample = 1;
+  s.parts = MaterialParts::SpecularWarpWeft;
+  ClothMaterial m =
+      bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32, {}, nullptr, &free);
+  m.set_cloth(free, palette_of(spec));
+  return m;
+}
+
 struct TempDir {
   fs::path path = fs::temp_directory_path() / ("clothbake_material_io_" + std::to_string(::getpid()) +
                                                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -98,29 +117,18 @@ TEST(MaterialIo, RoundTrip) {
 TEST(MaterialIo, ColourFreePartsRoundTrip) {
   TempDir tmp;
   ClothSpec spec;
-  spec.resolution = {16, 16, 8, 1};
   spec.warp.colors = {V3f(0.5f, 0.1f, 0.1f), V3f(0.1f, 0.4f, 0.1f), V3f(0.2f, 0.2f, 0.4f)};
   spec.weft.spacings_mm = {0.5f, 0.55f};
-  const ClothSpec free = colour_free(spec);
-  const VolumeTexture volume = generate_volume(free, uint64_t(1) << 32);
-  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
   MaterialSettings s;
   s.texels = 4;
-  s.directions = 2;
-  s.light_directions = 2;
-  s.spp = 1;
-  s.field_supersample = 1;
-  s.parts = MaterialParts::SpecularWarpWeft;
-  ClothMaterial m =
-      bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32, {}, nullptr, &free);
-  m.set_cloth(free, palette_of(spec));
+  const ClothMaterial m = small_colour_free(spec, s);
   const std::string dir = (tmp.path / "mat").string();
   write_material(dir, m, small_info());
   MaterialInfo info;
   const ClothMaterial r = read_material(dir, info);
   EXPECT_TRUE(r.colour_parts());
   EXPECT_EQ(first_difference(r.cloth, m.cloth).field, "");
-  EXPECT_EQ(r.cloth.weft.spacings_mm, free.weft.spacings_mm);
+  EXPECT_EQ(r.cloth.weft.spacings_mm, spec.weft.spacings_mm);
   EXPECT_EQ(r.palette, m.palette);
   EXPECT_EQ(r.colours.warp.repeats, 3);
   EXPECT_EQ(r.colours.warp.levels[0], m.colours.warp.levels[0]);
@@ -147,22 +155,11 @@ TEST(MaterialIo, AddressedPerCrossingRoundTrip) {
   TempDir tmp;
   ClothSpec spec;
   spec.pattern = "twill_2_2";
-  spec.resolution = {16, 16, 8, 1};
-  const ClothSpec free = colour_free(spec);
-  const VolumeTexture volume = generate_volume(free, uint64_t(1) << 32);
-  const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 16, 1);
   MaterialSettings s;
   s.texels = 2;
-  s.directions = 2;
-  s.light_directions = 2;
-  s.spp = 1;
-  s.field_supersample = 1;
   s.context = 1;
-  s.parts = MaterialParts::SpecularWarpWeft;
   s.address = MaterialAddress::Crossings;
-  ClothMaterial m =
-      bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32, {}, nullptr, &free);
-  m.set_cloth(free, palette_of(spec));
+  ClothMaterial m = small_colour_free(spec, s);
   const std::string dir = (tmp.path / "mat").string();
   write_material(dir, m, small_info());
   MaterialInfo info;
