@@ -303,6 +303,13 @@ void register_material_command(CLI::App& app, Action action) {
                   "randomness, at that many times the bake)")
       ->check(CLI::Range(k_min_material_members, k_max_material_members))
       ->capture_default_str();
+  cmd->add_option("--phase-bins", s.phase_bins,
+                  "--address crossings: bins of the ply phase of the yarn on top at a "
+                  "crossing, each its own block (about that many times the blocks): the "
+                  "generator's per-yarn random phase, which shows per pixel at a thread per "
+                  "pixel or two; 1: not in the classes")
+      ->check(CLI::Range(k_min_phase_bins, k_max_phase_bins))
+      ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", s.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")
       ->check(tangent_nodes)->capture_default_str();

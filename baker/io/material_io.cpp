@@ -108,6 +108,8 @@ json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
                       {"members", s.members},
                       {"stencil", enum_name(k_crossing_stencil_names, s.stencil)},
                       {"file", k_crossings_file}};
+    // Written only when used: a material without phase bins keeps its bytes.
+    if (s.phase_bins > 1) j["crossings"]["phase_bins"] = s.phase_bins;
   }
   j["directions"] = s.directions;
   j["light_directions"] = s.light_directions;
@@ -248,6 +250,8 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
     top.object("crossings").read("members", s.members);
     s.stencil = CrossingStencil::Plus1;  // before the 3 x 3 stencil
     read_enum(top.object("crossings"), "stencil", k_crossing_stencil_names, s.stencil);
+    s.phase_bins = 1;  // before phase bins
+    top.object("crossings").read("phase_bins", s.phase_bins);
   }
   try {
     check_material_settings(s);

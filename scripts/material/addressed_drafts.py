@@ -2,7 +2,7 @@
 """A material addressed per crossing for real WIF drafts, measured as issue 24
 asks (docs/material.md, "Addressed per crossing"):
 
-    scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8]
+    scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8] [--phase-bins P]
                                          [--no-randomness] [--seed-floor]
                                          [--blender BLENDER] [--reuse]
 
@@ -10,7 +10,8 @@ For each draft, on the paper scene's folds, camera and lights at 80 warp
 ends per UV:
   1. the reference: `clothbake render`, 64 spp, a quarter of the march step,
      no light roulette (timed: the bake's budget is 10 x this render);
-  2. the material: `clothbake material --address crossings --texels T`
+  2. the material: `clothbake material --address crossings --texels T
+     --phase-bins P`
      (timed, one run), its folder's size;
   3. lookup-render 64 spp from it, against the reference;
   4. the same material, not baked again, for the cloth in other colours
@@ -66,7 +67,8 @@ def blender_route(blender, d, key, material, spp):
     return t, img
 
 
-def measure(exe, work, wif, texels, spp, no_randomness, seed_floor, blender=None, reuse=False):
+def measure(exe, work, wif, texels, spp, no_randomness, seed_floor, blender=None, reuse=False,
+            phase_bins=1):
     name = os.path.splitext(os.path.basename(wif))[0]
     d = os.path.join(work, name)
     os.makedirs(d, exist_ok=True)
@@ -83,7 +85,8 @@ def measure(exe, work, wif, texels, spp, no_randomness, seed_floor, blender=None
     draft = json.load(open(os.path.join(d, "draft", "draft.json")))
     ends = draft["ends"]
     res = {"draft": os.path.basename(wif), "threads": [ends, draft["picks"]],
-           "neighbourhoods": draft["neighbourhoods"]["plus_1"], "texels": texels}
+           "neighbourhoods": draft["neighbourhoods"]["plus_1"], "texels": texels,
+           "phase_bins": phase_bins}
     cloth = {"name": name, "weave": {"wif": os.path.abspath(wif)}}
     recoloured = {"name": name + "_recoloured", "weave": {"wif": os.path.abspath(wif)},
                   "warp": {"colors": [[0.08, 0.12, 0.45]] * 4 + [[0.75, 0.7, 0.55]] * 2},
@@ -103,7 +106,8 @@ def measure(exe, work, wif, texels, spp, no_randomness, seed_floor, blender=None
         scene_for(path, ends, os.path.join(d, f"{key}_ref.json"), True)
     material = os.path.join(d, "material")
     t, text = run([exe, "material", os.path.join(d, "scene.json"), "-o", material, "--address",
-                   "crossings", "--texels", str(texels), "--quiet"])
+                   "crossings", "--texels", str(texels), "--phase-bins", str(phase_bins),
+                   "--quiet"])
     res["bake_seconds"] = t
     res["bake_report"] = json.loads(text.strip().splitlines()[-1])
     res["bytes"] = folder_bytes(material)
@@ -171,8 +175,11 @@ def chart(out, work_dirs):
                 ax.plot(mb, 100 * r[key]["pixel"], marker, color=colour,
                         markerfacecolor="none" if hollow else colour)
             fields = r.get("bake_report", {}).get("light_fields", "interpolated")
-            ax.annotate(f"{os.path.splitext(r['draft'])[0]} ({r['neighbourhoods']} blocks, "
-                        f"{fields})" + (", no randomness" if hollow else ""),
+            blocks = r.get("bake_report", {}).get("blocks", r["neighbourhoods"])
+            bins = r.get("phase_bins", 1)
+            ax.annotate(f"{os.path.splitext(r['draft'])[0]} ({blocks} blocks, "
+                        f"{fields}" + (f", texels {r['texels']}, {bins} phase bins" if bins > 1
+                                       else "") + ")" + (", no randomness" if hollow else ""),
                         (mb, 100 * r["scene"]["pixel"]), textcoords="offset points",
                         xytext=(-10, 8 if hollow or fields != "interpolated" else -14),
                         ha="right", fontsize=7,
@@ -211,6 +218,8 @@ def main():
     ap.add_argument("work")
     ap.add_argument("drafts", nargs="+")
     ap.add_argument("--texels", type=int, default=8, help="texels per crossing side")
+    ap.add_argument("--phase-bins", type=int, default=1,
+                    help="bins of the top yarn's ply phase in the classes (material --phase-bins)")
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--no-randomness", action="store_true",
                     help="take the generator's per-crossing randomness out of both cloths "
@@ -228,7 +237,7 @@ def main():
     os.makedirs(work, exist_ok=True)
     for wif in a.drafts:
         measure(exe, work, wif, a.texels, a.spp, a.no_randomness, a.seed_floor,
-                a.blender and os.path.abspath(a.blender), a.reuse)
+                a.blender and os.path.abspath(a.blender), a.reuse, a.phase_bins)
     return 0
 
 

@@ -76,7 +76,7 @@ void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
   const WeaveDraft draft = draft_of(spec);
   warp_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, true));
   weft_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, false));
-  crossings = addressed() ? crossing_classes(spec, settings.stencil) : CrossingClasses{};
+  crossings = addressed() ? crossing_classes(spec, settings.stencil, settings.phase_bins) : CrossingClasses{};
 }
 
 YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {

@@ -91,6 +91,7 @@ void check_material_settings(const MaterialSettings& s) {
   range("spp", s.spp, k_min_material_spp, k_max_material_spp);
   range("context", s.context, k_min_material_context, k_max_material_context);
   range("members", s.members, k_min_material_members, k_max_material_members);
+  range("phase_bins", s.phase_bins, k_min_phase_bins, k_max_phase_bins);
   range("field_supersample", s.field_supersample, k_min_field_supersample,
         k_max_field_supersample);
   if (s.fiber_tangent_nodes != 0)

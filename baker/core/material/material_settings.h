@@ -41,6 +41,7 @@ enum class MaterialAddress { Repeat, Crossings };
 inline constexpr int k_min_material_context = 1, k_max_material_context = 4;
 /// Crossings of a class a block averages (its representative first).
 inline constexpr int k_min_material_members = 1, k_max_material_members = 16;
+inline constexpr int k_min_phase_bins = 1, k_max_phase_bins = 16;
 
 /// How a material's light fields are read (light_fields.h): trilinear
 /// between the cells' centres, or by a march through the sample's own layer
@@ -95,6 +96,12 @@ struct MaterialSettings {
   /// Addressed per crossing: crossings of each class the block averages,
   /// spread over the class (1: its representative alone).
   int members = 1;
+  /// Addressed per crossing: bins of the ply phase of the yarn on top at a
+  /// crossing, each bin its own block of the class (1: the phase is not in
+  /// the class). The generator draws that phase per yarn; at a thread per
+  /// pixel or two it is what makes one seed's cloth differ from another's
+  /// (docs/material.md, "The per-pixel floor is the ply phase").
+  int phase_bins = 1;
   /// Colour-free parts need fibre shading and a volume made colour-free
   /// (core/weave/cloth_colours.h); the command chooses.
   MaterialParts parts = MaterialParts::Rgb;

@@ -15,6 +15,7 @@
 #include "core/util/error.h"
 #include "core/util/random.h"
 #include "core/weave/cloth_colours.h"
+#include "core/weave/ply_twist.h"
 #include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
 
@@ -315,12 +316,9 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
   const float inv_samples = 1.0f / float(ss * ss * ss);
   const float spread_rad = spec.angle_spread_deg * k_pi / 180.0f;
 
-  // Whole turns of the bundles per repeat, so the texture stays periodic.
-  auto turns_per_repeat = [](float repeat_mm, float pitch_mm) {
-    return std::max(1.0f, std::round(repeat_mm / pitch_mm));
-  };
-  const float warp_turns = turns_per_repeat(weave_mm.y, spec.warp.ply_pitch_mm);
-  const float weft_turns = turns_per_repeat(weave_mm.x, spec.weft.ply_pitch_mm);
+  const PlyTwist ply(spec, weave_mm);
+  static_assert(uint64_t(YarnFamily::Warp) == 1 && uint64_t(YarnFamily::Weft) == 2,
+                "PlyTwist keys its draws by these numbers: the same cloth, the same bytes");
 
   tbb::parallel_for(tbb::blocked_range<int>(0, res.layers * res.cells_y), [&](const auto& rows) {
     for (int row = rows.begin(); row != rows.end(); ++row) {
@@ -368,12 +366,7 @@ VolumeTexture generate_volume(const ClothSpec& spec, uint64_t memory_budget_byte
         const ThreadLayout& layout = warp ? weave.ends() : weave.picks();
         const int yarn_id = layout.wrap(central.index);  // its colour
         const int weave_yarn = yarn_id % (warp ? weave_ends : weave_picks);  // its random phase
-        const float repeat_mm = warp ? weave_mm.y : weave_mm.x;
-        const float turns = warp ? warp_turns : weft_turns;
-        const float phase0 =
-            2.0f * k_pi *
-            unit_float(hash_key(spec.seed, rng_stream::phase, uint64_t(central.family), weave_yarn));
-        const float phase = phase0 + 2.0f * k_pi * turns * central.along_mm / repeat_mm;
+        const float phase = ply.phase(warp, weave_yarn, central.along_mm);
         float rel = std::fmod(central.polar - phase, 2.0f * k_pi);
         if (rel < 0.0f) rel += 2.0f * k_pi;
         const float bundle_sign = rel < k_pi ? 1.0f : -1.0f;

@@ -1,11 +1,14 @@
 #include "core/weave/crossing_neighbourhoods.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "core/weave/cloth_colours.h"
+#include "core/weave/ply_twist.h"
 #include "core/weave/thread_layout.h"
 #include "core/weave/weave.h"
 
@@ -59,16 +62,36 @@ void square_key(std::string& key, const Drawdown& dd, const ClothSpec& spec,
 
 }  // namespace
 
-CrossingClasses crossing_classes(const ClothSpec& spec, CrossingStencil stencil) {
+CrossingClasses crossing_classes(const ClothSpec& spec, CrossingStencil stencil, int phase_bins) {
   const WeaveDraft draft = draft_of(spec);
   const ThreadLayout ends = thread_layout(spec, draft, true);
   const ThreadLayout picks = thread_layout(spec, draft, false);
   const Drawdown dd{draft};
+  // The ply phase of the yarn on top at a crossing's centre, as the
+  // generator draws it (per yarn of the weave repeat, which a spacing or
+  // width sequence may repeat q times across the layouts' repeat).
+  const Imath::V2f weave_mm = weave_repeat_mm(spec);
+  const PlyTwist ply(spec, weave_mm);
+  const int weave_ends =
+      ends.count() / std::max(1, int(std::lround(ends.repeat_mm() / weave_mm.x)));
+  const int weave_picks =
+      picks.count() / std::max(1, int(std::lround(picks.repeat_mm() / weave_mm.y)));
+  const float bin = 2.0f * std::numbers::pi_v<float> / float(std::max(phase_bins, 1));
+  auto top_phase = [&](int e, int p, int& which) {
+    const bool warp = dd.up(p, e) == '1';
+    const float phase = warp ? ply.phase(true, e % weave_ends, picks.centre_mm(p))
+                             : ply.phase(false, p % weave_picks, ends.centre_mm(e));
+    const float wrapped = phase - 2.0f * std::numbers::pi_v<float> *
+                                      std::floor(phase / (2.0f * std::numbers::pi_v<float>));
+    which = std::min(int(wrapped / bin), phase_bins - 1);
+    return std::abs(wrapped - (float(which) + 0.5f) * bin);  // off the bin's centre
+  };
   CrossingClasses out;
   out.ends = ends.count();
   out.picks = picks.count();
   out.class_of.resize(size_t(out.ends) * size_t(out.picks));
   std::unordered_map<std::string, int> seen;
+  std::vector<float> off_centre;  // per class, its representative's
   std::string key;
   for (int p = 0; p < out.picks; ++p)
     for (int e = 0; e < out.ends; ++e) {
@@ -76,8 +99,22 @@ CrossingClasses crossing_classes(const ClothSpec& spec, CrossingStencil stencil)
         plus1_key(key, dd, spec, ends, picks, e, p);
       else
         square_key(key, dd, spec, ends, picks, e, p, 1);
+      float off = 0.0f;
+      if (phase_bins > 1) {
+        int which = 0;
+        off = top_phase(e, p, which);
+        key += char(which);
+      }
       const auto [it, added] = seen.emplace(key, out.count());
-      if (added) out.representative.push_back({e, p});
+      if (added) {
+        out.representative.push_back({e, p});
+        off_centre.push_back(off);
+      } else if (off < off_centre[size_t(it->second)]) {
+        // The crossing nearest its bin's centre stands for the class: its
+        // block is then at most half a bin from any member's phase.
+        out.representative[size_t(it->second)] = {e, p};
+        off_centre[size_t(it->second)] = off;
+      }
       out.class_of[size_t(p) * size_t(out.ends) + size_t(e)] = it->second;
     }
   return out;
@@ -90,6 +127,17 @@ std::vector<CrossingClasses::Crossing> CrossingClasses::members(int b, int n) co
   const size_t m = std::min(all.size(), size_t(std::max(n, 1)));
   std::vector<Crossing> out;
   for (size_t i = 0; i < m; ++i) out.push_back(all[i * all.size() / m]);
+  // The representative first: the class's first crossing (all[0]), or with
+  // phase bins the one nearest its bin's centre, which takes the place of
+  // all[0].
+  const Crossing r = representative[size_t(b)];
+  const auto at = std::find_if(out.begin(), out.end(), [&](const Crossing& c) {
+    return c.end == r.end && c.pick == r.pick;
+  });
+  if (at != out.end())
+    std::iter_swap(out.begin(), at);
+  else
+    out[0] = r;
   return out;
 }
 
@@ -107,7 +155,6 @@ NeighbourhoodCounts crossing_neighbourhoods(const ClothSpec& coloured) {
   // The drawdown over the layouts' repeat (a multiple of the draft's when a
   // spacing or width sequence lengthens it), periodic in both directions.
   const Drawdown dd{draft};
-  auto up = [&](int p, int e) { return dd.up(p, e); };
   std::unordered_set<std::string> plus;
   std::array<std::unordered_set<std::string>, 3> square;
   std::string key;

@@ -45,8 +45,8 @@ struct CrossingClasses {
   };
   std::vector<Crossing> representative;  ///< per class
   int count() const { return int(representative.size()); }
-  /// Up to `n` crossings of class b, spread evenly over its crossings in
-  /// pick-major order, the representative first.
+  /// Up to `n` crossings of class b: its representative, then the others
+  /// spread evenly over them in pick-major order.
   std::vector<Crossing> members(int b, int n) const;
   int at(int end, int pick) const {
     const int e = ((end % ends) + ends) % ends, p = ((pick % picks) + picks) % picks;
@@ -60,9 +60,15 @@ struct CrossingClasses {
 enum class CrossingStencil { Plus1, Square1 };
 
 /// The classes of `colour_free_spec` (already colour_free(): its threads are
-/// the material's) by `stencil`, over its thread layouts' repeat.
+/// the material's) by `stencil`, over its thread layouts' repeat. With
+/// `phase_bins` > 1 a class also holds one bin of the ply phase (PlyTwist)
+/// of the yarn on top at the crossing's centre, the phase cut into that many
+/// equal bins: the one random draw that shows per pixel at a thread per pixel
+/// or two (docs/material.md, "The per-pixel floor is the ply phase"); the
+/// representative is then the class's crossing nearest its bin's centre.
 CrossingClasses crossing_classes(const ClothSpec& colour_free_spec,
-                                 CrossingStencil stencil = CrossingStencil::Plus1);
+                                 CrossingStencil stencil = CrossingStencil::Plus1,
+                                 int phase_bins = 1);
 
 /// The counts of `spec`'s weave (deterministic; about a second for a 641 x 641
 /// repeat).

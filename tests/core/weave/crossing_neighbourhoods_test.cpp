@@ -4,7 +4,15 @@
 
 #include "core/weave/crossing_neighbourhoods.h"
 
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
 #include <gtest/gtest.h>
+
+#include "core/weave/cloth_colours.h"
+#include "core/weave/ply_twist.h"
+#include "core/weave/thread_layout.h"
 
 namespace clothbake {
 namespace {
@@ -65,6 +73,64 @@ TEST(CrossingNeighbourhoods, ASpacingSequenceTellsThreadsApart) {
   // ends 1, 2, 3 each see the 0.25 end at a different place in the
   // stencil, end 0 does not: 4 kinds of end x 2 lifts each.
   EXPECT_EQ(n.plus1, 8);
+}
+
+// Phase bins (material --phase-bins): a class is the plus-1 class and the
+// bin of the ply phase of the yarn on top at the crossing, that phase
+// computed here from PlyTwist directly, on a 12 x 12 draft of seeded random
+// lifts (its smallest repeat is itself: 24 yarns of their own phase).
+TEST(CrossingClasses, PhaseBinsSplitEachClassByTheTopYarnsPlyPhase) {
+  ClothSpec spec;
+  uint64_t state = 12345;
+  spec.draft.assign(12, std::vector<int>(12));
+  for (auto& row : spec.draft)
+    for (int& up : row) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      up = int((state >> 33) & 1u);
+    }
+  const ClothSpec free = colour_free(spec);
+  const int bins = 4;
+  const CrossingClasses plain = crossing_classes(free);
+  const CrossingClasses binned = crossing_classes(free, CrossingStencil::Plus1, bins);
+  ASSERT_EQ(binned.ends, 12);
+  ASSERT_EQ(binned.picks, 12);
+
+  const WeaveDraft draft = draft_of(free);
+  const ThreadLayout ends = thread_layout(free, draft, true), picks = thread_layout(free, draft, false);
+  const PlyTwist ply(free, weave_repeat_mm(free));
+  const float two_pi = 2.0f * std::numbers::pi_v<float>, bin = two_pi / float(bins);
+  auto wrapped = [&](int e, int p) {
+    const float phase = draft.warp_up(p, e) ? ply.phase(true, e, picks.centre_mm(p))
+                                            : ply.phase(false, p, ends.centre_mm(e));
+    return phase - two_pi * std::floor(phase / two_pi);
+  };
+  auto bin_of = [&](int e, int p) { return std::min(int(wrapped(e, p) / bin), bins - 1); };
+  auto off_centre = [&](int e, int p) {
+    return std::abs(wrapped(e, p) - (float(bin_of(e, p)) + 0.5f) * bin);
+  };
+  // The product of the two partitions: same binned class exactly when the
+  // same plain class and the same bin.
+  for (int i = 0; i < 144; ++i)
+    for (int j = 0; j < 144; ++j) {
+      const int ei = i % 12, pi = i / 12, ej = j % 12, pj = j / 12;
+      const bool same = binned.at(ei, pi) == binned.at(ej, pj);
+      const bool expect = plain.at(ei, pi) == plain.at(ej, pj) && bin_of(ei, pi) == bin_of(ej, pj);
+      ASSERT_EQ(same, expect) << "crossings (" << ei << ", " << pi << ") and (" << ej << ", " << pj << ")";
+    }
+  EXPECT_GT(binned.count(), plain.count());
+  EXPECT_LE(binned.count(), bins * plain.count());
+  // Each class's representative is its member nearest the bin's centre,
+  // and members() gives it first.
+  for (int b = 0; b < binned.count(); ++b) {
+    const CrossingClasses::Crossing r = binned.representative[size_t(b)];
+    EXPECT_EQ(binned.at(r.end, r.pick), b);
+    for (int i = 0; i < 144; ++i)
+      if (binned.at(i % 12, i / 12) == b) EXPECT_LE(off_centre(r.end, r.pick), off_centre(i % 12, i / 12));
+    const std::vector<CrossingClasses::Crossing> m = binned.members(b, 3);
+    ASSERT_FALSE(m.empty());
+    EXPECT_EQ(m[0].end, r.end);
+    EXPECT_EQ(m[0].pick, r.pick);
+  }
 }
 
 }  // namespace
