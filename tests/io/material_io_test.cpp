@@ -222,6 +222,37 @@ TEST(MaterialIo, AStretchReadsBackAndNoneIsNotWritten) {
   EXPECT_EQ(read_material(stretched, info).optics.aspect, 5.4129791f);
 }
 
+// Phase bins (--phase-bins) read back and rebuild the same classes, more of
+// them than the plain stencil gives; without bins nothing is written, so a
+// material made before them keeps its bytes.
+TEST(MaterialIo, PhaseBinsReadBackAndOneIsNotWritten) {
+  TempDir tmp;
+  ClothSpec spec;
+  spec.pattern = "twill_2_2";
+  MaterialSettings s;
+  s.texels = 2;
+  s.context = 1;
+  s.address = MaterialAddress::Crossings;
+  const ClothMaterial plain = small_colour_free(spec, s);
+  s.phase_bins = 4;
+  const ClothMaterial binned = small_colour_free(spec, s);
+  EXPECT_GT(binned.crossings.count(), plain.crossings.count());
+  const std::string plain_dir = (tmp.path / "plain").string(), binned_dir = (tmp.path / "binned").string();
+  write_material(plain_dir, plain, small_info());
+  write_material(binned_dir, binned, small_info());
+  auto crossings = [](const std::string& dir) {
+    std::ifstream in(fs::path(dir) / "manifest.json");
+    return nlohmann::json::parse(in)["crossings"];
+  };
+  EXPECT_FALSE(crossings(plain_dir).contains("phase_bins"));
+  EXPECT_EQ(crossings(binned_dir)["phase_bins"], 4);
+  MaterialInfo info;
+  const ClothMaterial r = read_material(binned_dir, info);
+  EXPECT_EQ(r.settings.phase_bins, 4);
+  EXPECT_EQ(r.crossings.class_of, binned.crossings.class_of);
+  EXPECT_EQ(read_material(plain_dir, info).settings.phase_bins, 1);
+}
+
 TEST(MaterialIo, SameBytesTwice) {
   TempDir tmp;
   write_material((tmp.path / "a").string(), small_material(), small_info());
