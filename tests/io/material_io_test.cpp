@@ -61,6 +61,21 @@ ClothMaterial small_colour_free(ClothSpec spec, MaterialSettings s) {
   return m;
 }
 
+/// The 2/2 twill and the settings the addressed round trips bake it with.
+ClothSpec twill() {
+  ClothSpec spec;
+  spec.pattern = "twill_2_2";
+  return spec;
+}
+
+MaterialSettings addressed_settings() {
+  MaterialSettings s;
+  s.texels = 2;
+  s.context = 1;
+  s.address = MaterialAddress::Crossings;
+  return s;
+}
+
 struct TempDir {
   fs::path path = fs::temp_directory_path() / ("clothbake_material_io_" + std::to_string(::getpid()) +
                                                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -153,13 +168,7 @@ TEST(MaterialIo, ColourFreePartsRoundTrip) {
 // classes the cloth spec gives is refused, naming the field or the file.
 TEST(MaterialIo, AddressedPerCrossingRoundTrip) {
   TempDir tmp;
-  ClothSpec spec;
-  spec.pattern = "twill_2_2";
-  MaterialSettings s;
-  s.texels = 2;
-  s.context = 1;
-  s.address = MaterialAddress::Crossings;
-  ClothMaterial m = small_colour_free(spec, s);
+  ClothMaterial m = small_colour_free(twill(), addressed_settings());
   const std::string dir = (tmp.path / "mat").string();
   write_material(dir, m, small_info());
   MaterialInfo info;
@@ -227,15 +236,10 @@ TEST(MaterialIo, AStretchReadsBackAndNoneIsNotWritten) {
 // material made before them keeps its bytes.
 TEST(MaterialIo, PhaseBinsReadBackAndOneIsNotWritten) {
   TempDir tmp;
-  ClothSpec spec;
-  spec.pattern = "twill_2_2";
-  MaterialSettings s;
-  s.texels = 2;
-  s.context = 1;
-  s.address = MaterialAddress::Crossings;
-  const ClothMaterial plain = small_colour_free(spec, s);
+  MaterialSettings s = addressed_settings();
+  const ClothMaterial plain = small_colour_free(twill(), s);
   s.phase_bins = 4;
-  const ClothMaterial binned = small_colour_free(spec, s);
+  const ClothMaterial binned = small_colour_free(twill(), s);
   EXPECT_GT(binned.crossings.count(), plain.crossings.count());
   const std::string plain_dir = (tmp.path / "plain").string(), binned_dir = (tmp.path / "binned").string();
   write_material(plain_dir, plain, small_info());
