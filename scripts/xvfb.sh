@@ -1,6 +1,6 @@
 # Blender's real window needs an X display: sourced by the scripts and tests
 # that open it (tests/blender/ui_new_user.sh, ui_wif_panel.sh,
-# scripts/blender/material_preview.sh).
+# lab/material_preview/material_preview.sh).
 #
 # start_xvfb LOG_DIR [FIRST]: starts Xvfb (1600 x 1000 x 24) on the first free
 # display from :FIRST (default 90) on, sets xvfb_pid and display; on failure

@@ -2,7 +2,7 @@
 """A material addressed per crossing for real WIF drafts, measured as issue 24
 asks (docs/material.md, "Addressed per crossing"):
 
-    scripts/material/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8] [--phase-bins P]
+    lab/addressed_drafts/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8] [--phase-bins P]
                                          [--no-randomness] [--seed-floor]
                                          [--blender BLENDER] [--reuse]
 
@@ -27,14 +27,15 @@ mean), per pixel and after a 2 x 2 box filter (426 x 266 pixels do not
 divide by 4). Writes WORK_DIR/results.json and, with --chart OUT.png, size
 against error for every run in the WORK_DIRs given.
 
-    scripts/material/addressed_drafts.py --chart OUT.png WORK_DIR...
+    lab/addressed_drafts/addressed_drafts.py --chart OUT.png WORK_DIR...
 """
 import argparse
 import json
 import os
 import sys
 
-from paper_runs import ROOT, run, write_paper_scene
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from paper_runs import ROOT, run, write_paper_scene  # noqa: E402
 ENDS_PER_UV = 80
 
 

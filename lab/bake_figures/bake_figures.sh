@@ -2,8 +2,8 @@
 # Bake time, size and accuracy on a scene: the reference render, an adaptive
 # bake and full bakes at K = 4, 8, 16; each lookup-rendered and compared with
 # the render at the scene's samples. Prints a Markdown table.
-# Usage: scripts/bake_figures/bake_figures.sh [SCENE.json] [OUT_DIR] [FULL_TEXELS] [FULL_SPP]
-source "$(dirname "$0")/../lib.sh"
+# Usage: lab/bake_figures/bake_figures.sh [SCENE.json] [OUT_DIR] [FULL_TEXELS] [FULL_SPP]
+source "$(dirname "$0")/../../scripts/lib.sh"
 scene=${1:-$CLOTHBAKE_ROOT/testscenes/paper/scene.json}
 out=${2:-$CLOTHBAKE_ROOT/out/bake_figures}
 full_texels=${3:-32}

@@ -2,10 +2,10 @@
 scene, measures each point's seconds (median of several runs) and its error
 against a converged reference of the same scene, and writes a CSV and a
 log-log chart (error against seconds, one series per method, the Pareto
-front marked) as PNG and SVG. Driven by scripts/chart/chart.sh; docs/results.md
+front marked) as PNG and SVG. Driven by lab/chart/chart.sh; docs/results.md
 shows the results.
 
-    /usr/bin/python3 scripts/chart/chart.py SCENE.json --name NAME --out DIR
+    /usr/bin/python3 lab/chart/chart.py SCENE.json --name NAME --out DIR
         [--scale S] [--runs N] [--ref-spp N] [--volume-route CMD]
 
 What a point's seconds are: the wall time of the command a user runs to get
@@ -29,7 +29,7 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))  # scripts/chart/ -> the repository
+ROOT = os.path.dirname(os.path.dirname(HERE))  # lab/chart/ -> the repository
 
 
 def log(msg):

@@ -6,8 +6,8 @@
 # docs/images/chart_<scene>.{png,svg} with the points as a Markdown table
 # (chart_<scene>.md). About 30 minutes on the 2-core machine;
 # run it on an otherwise idle machine (the seconds are the point).
-#   scripts/chart/chart.sh [--quick] [SCENE...]     (scenes: paper flat, the default)
-source "$(dirname "$0")/../lib.sh"
+#   lab/chart/chart.sh [--quick] [SCENE...]     (scenes: paper flat, the default)
+source "$(dirname "$0")/../../scripts/lib.sh"
 install_packages
 build_all
 quick=()
@@ -27,11 +27,11 @@ for scene in "${scenes[@]}"; do
   timing="$CLOTHBAKE_ROOT/out/flat/vol/volume_seed1_timing.json"
   if [[ $scene == flat && ! -f $timing && ${#quick[@]} -eq 0 ]]; then
     # The real-volume route's renders (about 5 minutes) are made once and reused.
-    log "Cycles real-volume renders of the flat scene (scripts/cycles_timing/cycles_volume_timing.sh)"
-    CLOTHBAKE="$CLOTHBAKE_BUILD/baker/clothbake" bash "$CLOTHBAKE_ROOT/scripts/cycles_timing/cycles_volume_timing.sh"
+    log "Cycles real-volume renders of the flat scene (lab/cycles_timing/cycles_volume_timing.sh)"
+    CLOTHBAKE="$CLOTHBAKE_BUILD/baker/clothbake" bash "$CLOTHBAKE_ROOT/lab/cycles_timing/cycles_volume_timing.sh"
   fi
   if [[ $scene == flat && -f $timing ]]; then
-    # Cycles rendering the real volume (scripts/cycles_timing/cycles_volume_timing.sh, run
+    # Cycles rendering the real volume (lab/cycles_timing/cycles_volume_timing.sh, run
     # before): its renders, timed inside Blender (load + render), join the chart.
     mkdir -p "$out/flat"
     /usr/bin/python3 - "$timing" "$CLOTHBAKE_ROOT" >"$out/flat/extra_points.csv" <<'PY'
@@ -47,9 +47,9 @@ PY
     extra=(--extra-points "$out/flat/extra_points.csv")
   fi
   log "sweep on $scene (resolution x $scale)"
-  /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/chart/chart.py" "$CLOTHBAKE_ROOT/testscenes/$scene/scene.json" \
+  /usr/bin/python3 "$CLOTHBAKE_ROOT/lab/chart/chart.py" "$CLOTHBAKE_ROOT/testscenes/$scene/scene.json" \
     --name "$scene" --out "$out/$scene" --scale "$scale" "${quick[@]}" "${extra[@]}"
-  /usr/bin/python3 "$CLOTHBAKE_ROOT/scripts/chart/plot_chart.py" "$out/$scene/points.csv" \
+  /usr/bin/python3 "$CLOTHBAKE_ROOT/lab/chart/plot_chart.py" "$out/$scene/points.csv" \
     "$CLOTHBAKE_ROOT/docs/images/chart_$scene" --title "clothbake: $scene scene, error against time" \
     --machine "$out/machine.txt"
 done

@@ -1,10 +1,10 @@
-"""Draws the speed-against-accuracy chart from scripts/chart/chart.py's CSV:
+"""Draws the speed-against-accuracy chart from lab/chart/chart.py's CSV:
 relative RMSE against seconds on log axes, one series per method, the
 Pareto front (no other point both faster and more accurate) marked. For
 bake-based points a hollow marker joined by a dotted line shows the same
 image's cost with the bake's own seconds added.
 
-    /usr/bin/python3 scripts/chart/plot_chart.py POINTS.csv OUT_STEM [--title T]
+    /usr/bin/python3 lab/chart/plot_chart.py POINTS.csv OUT_STEM [--title T]
 writes OUT_STEM.png and OUT_STEM.svg, and OUT_STEM.md: the same points as a
 Markdown table (docs/results.md quotes it), Pareto points in bold.
 """
@@ -102,7 +102,9 @@ def main():
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(args.out_stem)), exist_ok=True)
     for ext in ("png", "svg"):
-        fig.savefig(f"{args.out_stem}.{ext}.tmp", format=ext)
+        # No date in the SVG's metadata: the same points give the same bytes.
+        fig.savefig(f"{args.out_stem}.{ext}.tmp", format=ext,
+                    metadata={"Date": None} if ext == "svg" else None)
         os.replace(f"{args.out_stem}.{ext}.tmp", f"{args.out_stem}.{ext}")
     write_table(rows, set(front), f"{args.out_stem}.md", args.machine)
     print(f"wrote {args.out_stem}.png/.svg/.md; Pareto front: " +

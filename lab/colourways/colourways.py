@@ -14,9 +14,9 @@ Colourways:
               repeat every 3 ends, the plain weave every 2, so q = 3 and the
               cloth's repeat is 6 ends), weft.colors 2 picks (ochre, navy)
 
-Errors are relative RMSE over RGB, whole image and interior (measure.py).
+Errors are relative RMSE over RGB, whole image and interior (lab/common/material_measure.py).
 
-    /usr/bin/python3 scripts/material/colourways.py [--out DIR] [--exe EXE]
+    /usr/bin/python3 lab/colourways/colourways.py [--out DIR] [--exe EXE]
 
 Writes DIR/results.json, DIR/results.md and DIR/sheet.png; references are
 kept in DIR and reused.
@@ -32,8 +32,8 @@ import OpenImageIO as oiio
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, HERE)
-from measure import errors, folder_bytes, log, pixels, run  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from material_measure import errors, folder_bytes, log, pixels, run  # noqa: E402
 
 PAPER = os.path.join(ROOT, "testscenes", "paper")
 COLOURWAYS = {

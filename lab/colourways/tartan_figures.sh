@@ -6,7 +6,7 @@
 # Beside it, clothbake's reference render of the first colourway and its
 # relative RMSE against the material's.
 #   docs/images/material/tartan_strip.png
-#   scripts/docs/tartan_figures.sh CLOTHBAKE     (about 6 minutes on 2 cores)
+#   lab/colourways/tartan_figures.sh CLOTHBAKE     (about 6 minutes on 2 cores)
 set -euo pipefail
 exe=$1
 root=$(cd "$(dirname "$0")/../.." && pwd)

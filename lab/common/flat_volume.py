@@ -1,7 +1,7 @@
 """Where the volume texture of a flat clothbake scene lies in world space.
 
-Plain Python (json only): imported by scripts/volumes/tile_volume.py (/usr/bin/python3)
-and by scripts/blender/volume_render.py (inside Blender).
+Plain Python (json only): imported by lab/common/tile_volume.py (/usr/bin/python3)
+and by lab/common/volume_render.py (inside Blender).
 
 For a scene whose first object is one flat, regular UV patch (testscenes/flat:
 a square of quads with UVs spanning a whole number of repeats), clothbake maps

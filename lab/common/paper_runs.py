@@ -1,6 +1,6 @@
-"""What the material measurement scripts share (addressed_drafts.py,
-opaque_cells.py): running clothbake with its command echoed and timed, and
-the paper scene with another cloth."""
+"""What the material measurement scripts share (addressed_drafts/,
+opaque_cells/, seed_floor/): running clothbake with its command echoed and
+timed, and the paper scene with another cloth."""
 import json
 import os
 import subprocess

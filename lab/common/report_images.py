@@ -1,5 +1,5 @@
 """Image helpers the report scripts share (cycles_check/cycles_check_report.py,
-cycles_timing/cycles_timing_report.py, which put scripts/common/ on sys.path):
+cycles_timing/cycles_timing_report.py, which put lab/common/ on sys.path):
 reading an image as floats, the sRGB curve for figures, and eroding a cloth
 mask so edge pixels stay out of a statistic."""
 

@@ -31,7 +31,7 @@ import time
 import numpy as np
 import pyopenvdb as vdb
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import flat_volume  # noqa: E402
 
 

@@ -1,5 +1,5 @@
 """Renders a flat clothbake scene in Blender 3.4 Cycles as a real volume: the
-tiled volume texture (scripts/volumes/tile_volume.py) placed where clothbake's map
+tiled volume texture (lab/common/tile_volume.py) placed where clothbake's map
 puts it, with the scene's camera, lights and background.
 
   blender -b --factory-startup --python-exit-code 1 -P volume_render.py -- \
@@ -25,7 +25,7 @@ Physics (docs/scene-format.md; clothbake's `isotropic` shading):
 - Volume precision FULL, step rate 1 (one voxel; --step-rate r: r voxels),
   trilinear lookup (--interpolation CUBIC: the material's cubic lookup).
 - Lights: Sun strength and point power from the measured LIGHT_UNITS.json
-  (scripts/blender/light_units.py): strength = intensity / (irradiance per
+  (lab/light_units/light_units.py): strength = intensity / (irradiance per
   unit strength), power = intensity / (irradiance at 1 unit per watt).
   Both hard (sun angle 0, point radius 0).
 - Density in WORLD space (vol.render.space): with OBJECT space Cycles reads

@@ -4,8 +4,8 @@
 # a quarter of the step and no light roulette; prints seconds and relative
 # RMSE / PSNR of each against the reference (full resolution and 2 x 2
 # box-averaged).
-# Usage: scripts/convergence/convergence.sh [SCENE.json] [OUT_DIR]
-source "$(dirname "$0")/../lib.sh"
+# Usage: lab/convergence/convergence.sh [SCENE.json] [OUT_DIR]
+source "$(dirname "$0")/../../scripts/lib.sh"
 scene=${1:-$CLOTHBAKE_ROOT/testscenes/paper/scene.json}
 out=${2:-$CLOTHBAKE_ROOT/out/convergence}
 exe="$CLOTHBAKE_BUILD/baker/clothbake"

@@ -2,7 +2,7 @@
 """What addressing a material by crossing neighbourhood would cost in a
 rendered image (issue 24, "Locality"), measured before the layout is built.
 
-    scripts/material/neighbourhood_addressing.py CLOTHBAKE WORK_DIR [--draft diamond]
+    lab/crossing_neighbourhoods/neighbourhood_addressing.py CLOTHBAKE WORK_DIR [--draft diamond]
 
 A neighbourhood-addressed material stores one block of texels per distinct
 neighbourhood of crossings and reads each crossing through its
@@ -32,7 +32,7 @@ whole-repeat folder's bytes, and the addressed layout's estimated as the
 level images' bytes times neighbourhoods / crossings (one block per
 neighbourhood instead of one per crossing) plus the light factors.
 
-    scripts/material/neighbourhood_addressing.py --chart OUT.png WORK_DIR...
+    lab/crossing_neighbourhoods/neighbourhood_addressing.py --chart OUT.png WORK_DIR...
 
 draws size against error for the runs in WORK_DIRs (their results.json).
 """

@@ -2,7 +2,7 @@
 """How far a crossing's neighbourhood reaches into its appearance (issue 24,
 "Shadows and grazing views reach further: measure how far").
 
-    scripts/material/neighbourhood_reach.py CLOTHBAKE WORK_DIR
+    lab/crossing_neighbourhoods/neighbourhood_reach.py CLOTHBAKE WORK_DIR
 
 Bakes, twice (seeds 1 and 2), an RGB material of a random 8 x 8 draft (seed 7,
 every thread interlacing) in the paper cloth's yarns with the per-crossing

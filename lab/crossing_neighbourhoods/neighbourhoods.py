@@ -3,7 +3,7 @@
 size a material addressed per crossing would need, against the size of a
 material that stores the whole weave repeat.
 
-    scripts/material/neighbourhoods.py CLOTHBAKE OUT_DIR DRAFT.wif ...
+    lab/crossing_neighbourhoods/neighbourhoods.py CLOTHBAKE OUT_DIR DRAFT.wif ...
 
 The counts are the program's (`clothbake draft`, draft.json's
 "neighbourhoods": core/weave/crossing_neighbourhoods.h): the draft over its

@@ -5,20 +5,20 @@
 # camera, lights and pixel filter (docs/results.md, "An independent check:
 # Cycles real volumes").
 #
-#   scripts/cycles_check/cycles_check.sh [OUT_DIR] [--check] [--figures DIR]
+#   lab/cycles_check/cycles_check.sh [OUT_DIR] [--check] [--figures DIR]
 #
 # Scenes: testscenes/slab/cycles_check.json (the uniform slab against a grey
 # background, so that both its scattering and its see-through count) and
 # testscenes/flat/cycles_check.json (the woven cloth, 6 x 6 repeats tiled into
 # one VDB, seen 50 to 69 degrees from its normal, the frame inside the cloth).
-# For each: `clothbake volume` + scripts/volumes/tile_volume.py (the VDB), `clothbake
-# render` (the reference, CB_SPP samples), scripts/blender/volume_render.py
+# For each: `clothbake volume` + lab/common/tile_volume.py (the VDB), `clothbake
+# render` (the reference, CB_SPP samples), lab/common/volume_render.py
 # (Cycles at CY_SPP samples with two seeds; their mean is the Cycles picture,
-# their difference its noise), scripts/cycles_check/cycles_check_report.py (`clothbake
+# their difference its noise), lab/cycles_check/cycles_check_report.py (`clothbake
 # compare --json`, mean ratio over the cloth, the comparison PNG).
 #
 # Light units are not measured here but given by the law issue 5 measured
-# (scripts/blender/light_units.py): a Sun of strength S gives irradiance S;
+# (lab/light_units/light_units.py): a Sun of strength S gives irradiance S;
 # a Point light of P watts gives P / (4 pi) at 1 unit, so clothbake's point
 # intensity I is P = 4 pi I watts. A wrong conversion therefore fails the check.
 #
@@ -86,10 +86,10 @@ blender_run() {  # quiet unless Blender fails
 }
 cb_render() { "$CLOTHBAKE" render "$SCENE" -o "$OUT/$NAME/clothbake.exr" --spp "$cb_spp" --quiet; }
 cb_volume() { "$CLOTHBAKE" volume "$SCENE" -o "$OUT/$NAME/volume" > /dev/null; }
-tile() { "$PY" "$ROOT/scripts/volumes/tile_volume.py" "$SCENE" "$OUT/$NAME/volume" "$OUT/$NAME/tiled.vdb" > /dev/null; }
+tile() { "$PY" "$ROOT/lab/common/tile_volume.py" "$SCENE" "$OUT/$NAME/volume" "$OUT/$NAME/tiled.vdb" > /dev/null; }
 cycles() {
   # shellcheck disable=SC2086
-  blender_run -P "$ROOT/scripts/blender/volume_render.py" -- "$SCENE" "$OUT/$NAME/volume" \
+  blender_run -P "$ROOT/lab/common/volume_render.py" -- "$SCENE" "$OUT/$NAME/volume" \
     "$OUT/$NAME/tiled.vdb" "$OUT/light_units.json" "$OUT/$NAME" --samples "$1" --seed 1,2 \
     --tag cycles $CY_ARGS
 }
@@ -118,7 +118,7 @@ for NAME in $SCENES; do
     args+=(--min-psnr "${!psnr_var:?$psnr_var not set}" --min-psnr4 "${!psnr4_var:?$psnr4_var not set}"
            --ratio-range "${!ratio_var:?$ratio_var not set}")
   fi
-  "$PY" "$ROOT/scripts/cycles_check/cycles_check_report.py" "$NAME" "$CLOTHBAKE" "$OUT/$NAME/clothbake.exr" \
+  "$PY" "$ROOT/lab/cycles_check/cycles_check_report.py" "$NAME" "$CLOTHBAKE" "$OUT/$NAME/clothbake.exr" \
     "$OUT/$NAME/cycles_s${spp}_seed1.exr" "$OUT/$NAME/cycles_s${spp}_seed2.exr" "$OUT/$NAME" \
     "${args[@]}" || status=1
   sed 's/^/   seconds: /' "$OUT/$NAME/seconds.tsv"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Splits every voxel of a tiled volume (scripts/volumes/tile_volume.py) into N^3
+"""Splits every voxel of a tiled volume (lab/common/tile_volume.py) into N^3
 voxels of the same value: the same piecewise-constant density as clothbake's
 nearest-cell lookup, on a grid N times finer, so that Cycles' trilinear
 lookup blurs it over 1/N of a cell instead of a whole cell. An experiment of
@@ -9,7 +9,7 @@ the difference between Cycles and clothbake is the lookup filter.
 Usage: upsample_volume.py TILED.vdb VOLUME_DIR N OUT_DIR
 Writes OUT_DIR/tiled.vdb (the `density` grid only, voxel (i, j, k) centred at
 ((i+.5) d/N, ...) as clothbake's) and OUT_DIR/volume.json (VOLUME_DIR's, with
-`cells` multiplied by N, which scripts/blender/volume_render.py reads for the
+`cells` multiplied by N, which lab/common/volume_render.py reads for the
 voxel size of its half-voxel shift).
 """
 import json
@@ -19,7 +19,7 @@ import sys
 import numpy as np
 import pyopenvdb as vdb
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
 from tile_volume import densify  # noqa: E402
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Turns the renders of scripts/cycles_timing/cycles_volume_timing.sh into figures: noise
+"""Turns the renders of lab/cycles_timing/cycles_volume_timing.sh into figures: noise
 against samples and seconds for the two Cycles routes (the flat cloth as a
 real volume; the same cloth drawn from a clothbake bake), the sample count
 and seconds each needs for a noise level, and how far the two pictures are

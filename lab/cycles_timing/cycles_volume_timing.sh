@@ -4,7 +4,7 @@
 # against a real volume"). Scene: testscenes/flat (a flat cloth of 6 x 6
 # repeats, isotropic shading, so both routes compute the same physics).
 #
-#   scripts/cycles_timing/cycles_volume_timing.sh [--reuse-bake]
+#   lab/cycles_timing/cycles_volume_timing.sh [--reuse-bake]
 #
 # Needs the built clothbake (build/baker/clothbake, or $CLOTHBAKE), Blender 3.4
 # ($BLENDER, default blender), /usr/bin/python3 with OpenImageIO, numpy,
@@ -81,11 +81,11 @@ BLENDER_USER_SCRIPTS=$(mktemp -d); BLENDER_USER_CONFIG=$BLENDER_USER_SCRIPTS
 trap 'rm -rf "$BLENDER_USER_SCRIPTS" "$TIMES_TMP"' EXIT
 
 # 1. Blender's light units, measured on a white diffuse plane.
-step light_units blender_run -P scripts/blender/light_units.py -- "$OUT/light_units.json"
+step light_units blender_run -P lab/light_units/light_units.py -- "$OUT/light_units.json"
 
 # 2. The volume texture (one repeat) and its tiling over the cloth.
 step clothbake_volume "$CLOTHBAKE" volume "$SCENE" -o "$OUT/volume"
-step tile_volume "$PY" scripts/volumes/tile_volume.py "$SCENE" "$OUT/volume" "$OUT/tiled.vdb"
+step tile_volume "$PY" lab/common/tile_volume.py "$SCENE" "$OUT/volume" "$OUT/tiled.vdb"
 
 # 3. clothbake's own renderer at 16 spp (for how far the two Cycles pictures are from it).
 step clothbake_render "$CLOTHBAKE" render "$SCENE" -o "$OUT/clothbake_render.exr" \
@@ -107,18 +107,18 @@ step clothbake_lookup_render "$CLOTHBAKE" lookup-render "$SCENE" "$OUT/bake" -o 
 
 # 5. The real-volume route: test renders in one Blender session, the
 #    reference (another seed) in another; one grid-colour render for its cost.
-step volume_renders blender_run -P scripts/blender/volume_render.py -- "$SCENE" "$OUT/volume" \
+step volume_renders blender_run -P lab/common/volume_render.py -- "$SCENE" "$OUT/volume" \
   "$OUT/tiled.vdb" "$OUT/light_units.json" "$OUT/vol" --samples "$VOL_SAMPLES" --seed 1
-step volume_reference blender_run -P scripts/blender/volume_render.py -- "$SCENE" "$OUT/volume" \
+step volume_reference blender_run -P lab/common/volume_render.py -- "$SCENE" "$OUT/volume" \
   "$OUT/tiled.vdb" "$OUT/light_units.json" "$OUT/vol" --samples "$VOL_REF" --seed 7
-step volume_grid blender_run -P scripts/blender/volume_render.py -- "$SCENE" "$OUT/volume" \
+step volume_grid blender_run -P lab/common/volume_render.py -- "$SCENE" "$OUT/volume" \
   "$OUT/tiled.vdb" "$OUT/light_units.json" "$OUT/vol" --samples 16 --seed 1 --color grid --tag volume_grid
 
 # 6. The bake route: the add-on's headless render, one session per sample count.
 bake_render() {  # bake_render SAMPLES SEED
   local tag="bake_s$1_seed$2"
   CLOTHBAKE_RENDER_CLOCK="$OUT/bakeroute/${tag}_clock.json" step "$tag" blender_run \
-    -P scripts/blender/render_clock.py -P blender_addon/headless_render.py -- \
+    -P lab/cycles_timing/render_clock.py -P blender_addon/headless_render.py -- \
     "$SCENE" "$OUT/bake" "$OUT/bakeroute/$tag.exr" --samples "$1" --seed "$2" \
     --timings "$OUT/bakeroute/${tag}_timings.json"
 }
@@ -135,7 +135,7 @@ fi
 material_render() {  # material_render SAMPLES SEED
   local tag="material_s$1_seed$2"
   CLOTHBAKE_RENDER_CLOCK="$OUT/matroute/${tag}_clock.json" step "$tag" blender_run \
-    -P scripts/blender/render_clock.py -P blender_addon/headless_render.py -- \
+    -P lab/cycles_timing/render_clock.py -P blender_addon/headless_render.py -- \
     "$SCENE" "$OUT/material" "$OUT/matroute/$tag.exr" --samples "$1" --seed "$2" \
     --timings "$OUT/matroute/${tag}_timings.json"
 }
@@ -143,5 +143,5 @@ for n in ${MAT_SAMPLES//,/ }; do material_render "$n" 1; done
 material_render "$MAT_REF" 7
 
 # 8. Figures.
-"$PY" scripts/cycles_timing/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE" \
+"$PY" lab/cycles_timing/cycles_timing_report.py "$OUT" "$VOL_SAMPLES" "$VOL_REF" "$BAKE_SAMPLES" "$BAKE_REF" "$FIGURE" \
   "$MAT_SAMPLES" "$MAT_REF"

@@ -6,11 +6,11 @@
 # this machine would take for it. Every merged folder is checked byte for byte
 # against the single bake. Writes OUT_DIR/scaling.json and draws
 # OUT_DIR/farm_scaling.png (scaling_report.py). About 6 min on 2 cores.
-#   scripts/farm/scaling.sh [OUT_DIR] [--shards "1 2 4 8"] [-- MATERIAL_OPTIONS]
+#   lab/farm_scaling/scaling.sh [OUT_DIR] [--shards "1 2 4 8"] [-- MATERIAL_OPTIONS]
 # MATERIAL_OPTIONS default to the paper cloth's material at 16 texels per repeat.
 set -euo pipefail
-farm_dir=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$farm_dir/../.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
+farm_dir=$root/scripts/farm
 source "$root/scripts/lib.sh"
 
 out=$root/out/farm_scaling shard_list="1 2 4 8" mat_opts=(--texels 16)
@@ -63,7 +63,7 @@ for n in $shard_list; do
   log "$n shard(s): wall $wall s, shards [$shards_s] s, merge $merge_s s; merged bytes equal the single bake's"
   printf '%s\t%s\t%s\t%s\n' "$n" "$wall" "$shards_s" "$merge_s" >>"$runs"
 done
-/usr/bin/python3 "$farm_dir/scaling_report.py" "$runs" --single-seconds "$single" --cores "$cores" \
+/usr/bin/python3 "$(dirname "$0")/scaling_report.py" "$runs" --single-seconds "$single" --cores "$cores" \
   --options "${mat_opts[*]}" --json "$out/scaling.json" --png "$out/farm_scaling.png"
 cp "$runs" "$out/runs.tsv"
 log "wrote $out/runs.tsv, $out/scaling.json and $out/farm_scaling.png"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The farm's scaling figure from scripts/farm/scaling.sh's measurements.
+"""The farm's scaling figure from lab/farm_scaling/scaling.sh's measurements.
 
     scaling_report.py RUNS.tsv --single-seconds S --cores C --options "..." --json OUT.json --png OUT.png
 

@@ -4,7 +4,7 @@ Blender 3.4 (Cycles and Eevee, both routes) against clothbake's converged
 references, a two-frame shape-key animation, a sphere's shadow, the README
 strip of a circling key light, and render times.
 
-Reads what scripts/material/measure.py made in out/material (the scene
+Reads what lab/material_accuracy/measure.py made in out/material (the scene
 variants, the 64-spp quarter-step references, material_default) and makes
 what is missing the same way. Writes out/material/blender/results.json, the
 sheets there, and the pictures the docs show into docs/images/material/.
@@ -24,8 +24,8 @@ import OpenImageIO as oiio
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-sys.path.insert(0, HERE)
-from measure import errors, log, run  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from material_measure import errors, log, run  # noqa: E402
 
 FRAMES = os.path.join(HERE, "blender_frames.py")
 

@@ -13,7 +13,7 @@ and over the cloth's interior (pixels whose reference alpha is >= 0.95 with
 all 8 neighbours so): a 4-spp image's silhouette pixels carry coverage noise
 that no shading removes.
 
-    /usr/bin/python3 scripts/material/measure.py [--out DIR] [--exe EXE]
+    /usr/bin/python3 lab/material_accuracy/measure.py [--out DIR] [--exe EXE]
 
 Writes DIR/results.json, DIR/results.md, DIR/error_vs_size.png and
 comparison sheets; references are kept in DIR and reused.
@@ -22,52 +22,14 @@ import argparse
 import json
 import os
 import re
-import subprocess
 import sys
-import time
-
-import numpy as np
-import OpenImageIO as oiio
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from material_measure import errors, folder_bytes, log, run  # noqa: E402
+
 VARIANTS = ["paper", "grazing_light", "grazing_camera", "far_camera"]
-
-
-def log(msg):
-    print(f"[measure] {msg}", file=sys.stderr, flush=True)
-
-
-def run(cmd):
-    start = time.perf_counter()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(cmd) + "\n" + p.stderr[-2000:])
-    return time.perf_counter() - start, p.stdout, p.stderr
-
-
-def pixels(path):
-    return oiio.ImageBuf(path).get_pixels(oiio.FLOAT)
-
-
-def errors(ref_path, img_path):
-    """(whole image, interior) relative RMSE, as clothbake compare defines it:
-    RMSE over RGB divided by the reference's mean RGB."""
-    a, b = pixels(ref_path), pixels(img_path)
-    mean = a[..., :3].mean()
-    whole = np.sqrt(((a[..., :3] - b[..., :3]) ** 2).mean()) / mean
-    m = a[..., 3] >= 0.95
-    inner = m.copy()
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            inner &= np.roll(np.roll(m, dy, 0), dx, 1)
-    d = (a[..., :3] - b[..., :3])[inner]
-    interior = np.sqrt((d ** 2).mean()) / a[..., :3][inner].mean()
-    return float(whole), float(interior)
-
-
-def folder_bytes(path):
-    return sum(os.path.getsize(os.path.join(path, f)) for f in os.listdir(path))
 
 
 def main():

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Material Preview of the cloth material, measured (material_preview.py):
-#   scripts/blender/material_preview.sh CLOTHBAKE SCENE.json MATERIAL_DIR OUT_DIR [SAMPLES]
+#   lab/material_preview/material_preview.sh CLOTHBAKE SCENE.json MATERIAL_DIR OUT_DIR [SAMPLES]
 # In Blender's real window under Xvfb: Eevee's F12 and the viewport's
 # Material Preview (Viewport Render Image, through the camera) of the scene
 # with the material applied (exact route), SAMPLES samples each (default
@@ -22,7 +22,7 @@ start_xvfb "$tmp" 140 || exit 1
 mkdir -p "$tmp/user/config"
 rm -f "$out/result.txt"
 DISPLAY=$display BLENDER_USER_SCRIPTS=$tmp/user BLENDER_USER_CONFIG=$tmp/user/config \
-  timeout 900 blender --factory-startup -P "$root/scripts/blender/material_preview.py" \
+  timeout 900 blender --factory-startup -P "$root/lab/material_preview/material_preview.py" \
   -- "$root/blender_addon" "$scene" "$material" "$out" "$samples" >"$out/blender.log" 2>&1 || true
 grep -E "^(step|notes|eevee|viewport)|Traceback|Error" "$out/blender.log" || true
 [[ $(cat "$out/result.txt" 2>/dev/null) == passed ]] || { echo "material_preview.sh: Blender did not finish (see $out/blender.log)" >&2; exit 1; }

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Light fields where cells are opaque (docs/material.md, "Opaque cells"):
 
-    scripts/material/opaque_cells.py CLOTHBAKE WORK_DIR [--chart OUT.png] [--only N ...]
+    lab/opaque_cells/opaque_cells.py CLOTHBAKE WORK_DIR [--chart OUT.png] [--only N ...]
 
 A plain weave of thick yarn (2.12 mm apart and as wide, 0.87 mm thick, as
 the overshot tw_honeysuckle's threads; randomness out) on the paper scene's
@@ -22,7 +22,8 @@ import json
 import os
 import sys
 
-from paper_runs import run, write_paper_scene
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from paper_runs import run, write_paper_scene  # noqa: E402
 YARN = {"twist_deg": 0.0, "spacing_mm": 2.12, "width_mm": 2.12, "thickness_mm": 0.87,
         "color": [0.6, 0.45, 0.3]}
 METHODS = [("interpolated, 1 point per cell edge", ["--light-fields", "interpolated",
@@ -104,7 +105,7 @@ def chart(results, path):
 
 def main():
     if len(sys.argv) == 4 and sys.argv[1] == "--chart-only":
-        # scripts/material/opaque_cells.py --chart-only WORK_DIR OUT.png
+        # lab/opaque_cells/opaque_cells.py --chart-only WORK_DIR OUT.png
         chart(json.load(open(os.path.join(sys.argv[2], "results.json"))), sys.argv[3])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

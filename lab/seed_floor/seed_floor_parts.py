@@ -2,7 +2,7 @@
 """Which of the cloth's random draws make a draft's seed floor
 (docs/material.md, "The per-pixel floor"):
 
-    scripts/material/seed_floor_parts.py CLOTHBAKE WORK_DIR DRAFT.wif
+    lab/seed_floor/seed_floor_parts.py CLOTHBAKE WORK_DIR DRAFT.wif
 
 On the paper scene's folds, camera and lights at 80 warp ends per UV (the
 references of addressed_drafts.py: 64 spp, a quarter of the march step, no
@@ -16,8 +16,10 @@ box. Writes WORK_DIR/floor_parts.json.
 import argparse
 import json
 import os
+import sys
 
-from paper_runs import run, write_paper_scene
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from paper_runs import run, write_paper_scene  # noqa: E402
 ENDS_PER_UV = 80
 
 # The generator's random draws (cloth_spec.h) and the spec fields that turn

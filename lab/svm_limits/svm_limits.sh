@@ -2,7 +2,7 @@
 # The light-term limits of Apply material's SVM note, measured again
 # (blender_addon/clothbake/core/svm_budget.py, docs/material.md "Lights and
 # the SVM stack"):
-#   scripts/dev/svm_limits.sh CLOTHBAKE [WORK_DIR]
+#   lab/svm_limits/svm_limits.sh CLOTHBAKE [WORK_DIR]
 # Bakes the paper cloth twice (colour-free and RGB; R 16, K 12, KL 8, 1
 # sample, as the table was measured), makes the paper scene with its lights
 # replaced by N point lights on a ring, and for each (parts, route) of

@@ -4,7 +4,7 @@
 #                                     32 spp) beside its drawdown (clothbake draft)
 #   docs/images/wif_orientation.png  a small real draft's drawdown, tiled 3 x 3,
 #                                     beside the volume's top view (3 x 3 repeats)
-#   scripts/docs/wif_figures.sh CLOTHBAKE     (about 2 minutes)
+#   lab/wif_figures/wif_figures.sh CLOTHBAKE     (about 2 minutes)
 set -euo pipefail
 exe=$1
 root=$(cd "$(dirname "$0")/../.." && pwd)

@@ -4,7 +4,7 @@ row per room (cli, io, core/material, core/march, the core rooms below),
 and an arrow for each #include between them. Used for docs/architecture.md
 (before and after a restructuring: run it on two checkouts).
 
-    scripts/docs/include_graph.py [CHECKOUT] OUT.png [--title TEXT]
+    scripts/dev/include_graph.py [CHECKOUT] OUT.png [--title TEXT]
 """
 import argparse
 import os

@@ -142,7 +142,7 @@ else
     "${argv[@]}" || rc=$?
   fi
 fi
-# Milliseconds: the scaling figure (scripts/farm/scaling.sh) reads these.
+# Milliseconds: the scaling figure (lab/farm_scaling/scaling.sh) reads these.
 end_ns=$(date +%s%N)
 seconds=$(printf '%d.%03d' $(((end_ns - start_ns) / 1000000000)) $((((end_ns - start_ns) / 1000000) % 1000)))
 

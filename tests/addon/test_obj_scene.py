@@ -97,7 +97,7 @@ def test_loads_the_paper_scene(source_dir):
     assert z == pytest.approx([-c / n for c in d])
     assert sun["energy"] == 3.0
     # A Cycles point lamp of P watts gives irradiance P / (4 pi) at 1 unit
-    # (measured: scripts/blender/light_units.py), so intensity 8 needs 32 pi W.
+    # (measured: lab/light_units/light_units.py), so intensity 8 needs 32 pi W.
     point = sc.blender_light(model["lights"][1])
     assert point["energy"] == pytest.approx(8.0 * 4.0 * math.pi, rel=1e-12)
 

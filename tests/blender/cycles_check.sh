@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CTest blender.cycles_check: clothbake's reference renderer (isotropic mode)
 # against Blender 3.4 Cycles rendering the same volumes as real OpenVDB volumes
-# with volume_bounces = 0 (scripts/cycles_check/cycles_check.sh; docs/results.md, "An
+# with volume_bounces = 0 (lab/cycles_check/cycles_check.sh; docs/results.md, "An
 # independent check: Cycles real volumes"). Fails when the mean ratio or the
 # PSNR of either scene leaves its bound.
 #
@@ -46,7 +46,7 @@
 #     give 31.4, 27.7 and 38.0 dB.
 #
 # Tried (docs/results.md, "The test and its bounds"): the extinction doubled
-# in scripts/blender/volume_render.py fails this test (slab ratio 0.5414,
+# in lab/common/volume_render.py fails this test (slab ratio 0.5414,
 # PSNR 6.8 dB; flat PSNR 31.9 dB, 37.0 dB after 4 x 4); the point light at
 # 4 pi^2 I watts fails the flat scene (ratio 1.1787, PSNR 20.8 dB).
 set -euo pipefail
@@ -66,4 +66,4 @@ export BLENDER=$blender CLOTHBAKE=$clothbake
 export SLAB_CY_SPP=512 SLAB_CB_SPP=64 FLAT_CY_SPP=256 FLAT_CB_SPP=16
 export SLAB_RATIO=0.995,1.005 SLAB_MIN_PSNR=48 SLAB_MIN_PSNR4=54
 export FLAT_RATIO=1.002,1.014 FLAT_MIN_PSNR=36 FLAT_MIN_PSNR4=42.5
-bash "$src/scripts/cycles_check/cycles_check.sh" "$tmp" --check
+bash "$src/lab/cycles_check/cycles_check.sh" "$tmp" --check
