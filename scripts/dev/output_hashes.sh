@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # The bytes of every output kind on the paper and slab scenes, as sha256
-# prefixes, for a refactoring that must change none of them (issue 14):
+# prefixes, for a refactoring that must change none of them:
 #   scripts/dev/output_hashes.sh CLOTHBAKE [OUT_TSV]
 # Runs render, bake (full and adaptive; every file of the folder, the
 # manifest without its timings), lookup-render and volume (the cells hash:
 # OpenVDB writes a random UUID into each file, docs/hardening.md). One
-# thread and two threads must agree too. Then the cloth material (issue 21):
+# thread and two threads must agree too. Then the cloth material:
 # a small material of the paper cloth (every file of the folder, the
 # manifest less its statistics), lookup-render of the paper scene from it
 # at 4 spp, and with BLENDER set (or blender on the PATH) the headless

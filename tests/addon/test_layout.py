@@ -55,8 +55,8 @@ def test_patch_parameters_on_parallelograms_survive_float_rounding():
     """A plane made in Blender is all parallelograms: g is 0 up to rounding,
     so k2 is tiny and the far root huge. The shader picks a root by blending
     with a 0/1 weight in float32; unclamped, that blend lost the near root
-    to cancellation and whole quads read t = 0 or 1 (issue 13: the
-    patchwork of stripes). The mirror emulates the float32 blend."""
+    to cancellation and whole quads read t = 0 or 1 (a patchwork of
+    stripes). The mirror emulates the float32 blend."""
     rng = random.Random(11)
     uv = [(0.0, 0.0), (0.125, 0.0), (0.125, 0.125), (0.0, 0.125)]
     worst = 0.0

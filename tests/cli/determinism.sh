@@ -68,6 +68,6 @@ check bake_adaptive "$exe" bake "$scene" -o {}/b --adaptive --directions 3 --spp
 check bake_quads "$exe" bake "$scene" -o {}/b "${bake[@]}" --quads 10-30
 check lookup_render "$exe" lookup-render "$scene" "$tmp/bake_full/t1a/b" -o {}/r.exr --png {}/r.png --spp 2
 check lookup_render_adaptive "$exe" lookup-render "$scene" "$tmp/bake_adaptive/t1a/b" -o {}/r.exr --spp 2
-# The cloth material (issue 15): the bake's folder and a render from it.
+# The cloth material: the bake's folder and a render from it.
 check material "$exe" material "$scene" -o {}/m --texels 8 --directions 3 --light-directions 3 --spp 1
 check lookup_render_material "$exe" lookup-render "$scene" "$tmp/material/t1a/m" -o {}/r.exr --spp 2

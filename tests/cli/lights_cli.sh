@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Spot and area lights through every route (issue 22): testscenes/lights (the
+# Spot and area lights through every route: testscenes/lights (the
 # paper's weave on the flat cloth, a spot whose soft edge crosses it and a
 # rectangular area light beside it).
 # - lookup-render from a material baked at the defaults (the material knows

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A cloth material against a per-scene bake of the same light (issue 15):
+# A cloth material against a per-scene bake of the same light:
 # testscenes/slab (a homogeneous isotropic slab, one directional light at 45
 # degrees, seen from straight above) rendered by lookup-render from a full
 # per-scene bake and from a material of the same cloth. Both are estimates of

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Colours at render time (issue 24): one colour-free material of the paper
+# Colours at render time: one colour-free material of the paper
 # cloth (tiny settings), rendered by lookup-render in the paper scene's own
 # colours, in another weft colour and with a 3-end warp stripe (a 6-end cloth
 # from a 2-end material), without baking again; and refused, naming the

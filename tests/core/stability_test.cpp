@@ -1,4 +1,4 @@
-// Stability suite (issue 6): drives each method into the regimes where it
+// Stability suite: drives each method into the regimes where it
 // may fail and records what happens (docs/stability.md).
 //
 // Every test asserts that no output is NaN or Inf and that outputs stay in

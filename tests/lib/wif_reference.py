@@ -2,7 +2,7 @@
 """An independent reading of a WIF (Weaving Information File 1.1) draft.
 
 This is the test suite's reference for clothbake's C++ WIF reader. It follows
-the reading rules agreed for issue 23 (the contract, restated below) and the
+the reading rules of clothbake's WIF contract (restated below) and the
 WIF 1.1 specification (Ravi Nielsen, April 20 1997); it shares no code with
 the C++ reader. Debian python3 and numpy only.
 

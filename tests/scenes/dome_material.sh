@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The curvature case of the stability suite (issue 22, docs/stability.md,
+# The curvature case of the stability suite (docs/stability.md,
 # "Curved cloth at grazing views"): testscenes/dome, the paper's weave on a
 # spherical cap seen from low over its rim, its flanks and far side at
 # grazing views. lookup-render from a material baked at the defaults against

@@ -271,7 +271,7 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
 }
 
 // A map that stretches the repeat 2.5 : 1 between its axes (a draft of
-// unlike ends and picks at one repeats_per_uv; issue 24's overshot is 5.4):
+// unlike ends and picks at one repeats_per_uv; a real overshot WIF's is 5.4):
 // the fibres are shaded at the world's true angles, as the renderer shades
 // them. Measured 0.0222, same bound; shading in the material's frame
 // instead (the stretch ignored, as before the aspect was kept) 0.2501.
