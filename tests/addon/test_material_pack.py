@@ -128,7 +128,7 @@ def test_world_weights_integrate_the_hemisphere(light_map):
 
 def test_world_factors_at_the_node_trees_address(material):
     """Each view node's world factors, its own hemisphere (ws 0) and the
-    other (ws 1), where material_nodes._world reads them."""
+    other (ws 1), where material_nodes.lights.world_terms reads them."""
     info = mp.read_material(material)
     pack = mp.pack_material(info, rank=64, dense=5)
     lf, names = read(os.path.join(material, "light_factors.exr"))
@@ -228,7 +228,7 @@ def addressed(tmp_path_factory):
 
 def test_addressed_blocks_at_the_node_trees_address(addressed):
     """Every crossing's texels, at every level, view node and component, at
-    the address material_nodes._crossing_address computes from the packed
+    the address material_nodes.address.crossing_address computes from the packed
     index: the block of the crossing's class, in the tile's grid of blocks."""
     info = mp.read_material(addressed)
     assert info.address == mp.CROSSINGS and (info.ends, info.picks, info.blocks) == (62, 62, 30)

@@ -37,6 +37,7 @@ from ..core.layout import corner_frames, index_pixels
 from ..core.manifest import read_manifest
 from . import evaluated_mesh, patch_nodes
 from .graph import Graph
+from .node_compat import new_group_socket
 from .patch_nodes import ATTR_PREFIX, FACE_ATTRS
 
 def _count(n, noun):
@@ -146,9 +147,9 @@ def _new_group(name):
     if group is not None:
         bpy.data.node_groups.remove(group)
     group = bpy.data.node_groups.new(name, "ShaderNodeTree")
-    group.outputs.new("NodeSocketShader", "Shader")
-    group.outputs.new("NodeSocketColor", "Color")
-    group.outputs.new("NodeSocketFloat", "Alpha")
+    for socket_type, socket_name in (("NodeSocketShader", "Shader"),
+                                     ("NodeSocketColor", "Color"), ("NodeSocketFloat", "Alpha")):
+        new_group_socket(group, "OUTPUT", socket_type, socket_name)
     return group
 
 

@@ -4,6 +4,8 @@ columns so the tree stays readable in the Node Editor."""
 
 import bpy
 
+from .node_compat import new_group_socket
+
 
 class Graph:
     """Every helper makes (and converts) its inputs before its own node, so
@@ -184,7 +186,8 @@ class SubGraph(Graph):
     def _input(self, outer):
         key = outer.as_pointer()
         if key not in self._index:
-            self.tree.inputs.new(_INTERFACE_TYPES[outer.type], f"in {len(self._outer)}")
+            new_group_socket(self.tree, "INPUT", _INTERFACE_TYPES[outer.type],
+                             f"in {len(self._outer)}")
             self._index[key] = len(self._outer)
             self._outer.append(outer)
         return self._gin.outputs[self._index[key]]
@@ -194,7 +197,7 @@ class SubGraph(Graph):
         for i, s in enumerate(outputs):
             if s.id_data != self.tree:  # passed through untouched
                 s = self._input(s)
-            self.tree.outputs.new(_INTERFACE_TYPES[s.type], f"out {i}")
+            new_group_socket(self.tree, "OUTPUT", _INTERFACE_TYPES[s.type], f"out {i}")
             self.links.new(s, gout.inputs[i])
         self.parent.late += [f"{self.tree.name}: {e}" for e in self.late]
         node = self.parent.node("ShaderNodeGroup", self.column, node_tree=self.tree)

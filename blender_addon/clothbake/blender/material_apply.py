@@ -1,6 +1,6 @@
 """Apply material: a cloth material (docs/material-format.md) on any mesh
 with a UV map, lit live by the scene's sun, point, spot and area lights. The node group
-is material_nodes.py's, the lights and camera reach it through
+is the material_nodes package's, the lights and camera reach it through
 material_drivers.py; this module reads what the group needs from the mesh
 and the scene, and makes the object's material around the group.
 """
@@ -90,7 +90,7 @@ def write_face_world_per_uv(obj, uv_name):
     """The UV map's local scale per face, sqrt(world area / UV area) of the
     face (world space through the object's matrix), stored on the ORIGINAL
     mesh as the FACE float attribute STRETCH_ATTRIBUTE, which the group's
-    level reads (material_nodes._level). Modifiers after it carry it on
+    level reads (material_nodes.level). Modifiers after it carry it on
     (a Subdivision Surface copies each face's value onto its sub-faces, a
     Mirror onto the mirrored copy); a face whose UVs have no area gets 0,
     where the group falls back to its World per UV input (the mean). A

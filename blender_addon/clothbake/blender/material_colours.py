@@ -91,7 +91,7 @@ def make_strips(obj, info):
         texels, levels = info.texels, info.levels
         if info.address == CROSSINGS:
             # A tap lies in one crossing and takes its threads' colours:
-            # one column a thread (material_nodes._crossing_address counts
+            # one column a thread (material_nodes.address.crossing_address counts
             # the taps' crossings, whatever the threads' spacings: column c
             # is thread c of the colours' repeat), and one level.
             n = len(centres)

@@ -1,5 +1,5 @@
 """The drivers that bring the scene into the cloth material's node group
-(material_nodes.py): each light's direction (or position), irradiance and
+(the material_nodes package): each light's direction (or position), irradiance and
 render visibility, a spot's axis and cone, an area light's axis, sides and
 shape, and the camera's pixel angle and Cycles' samples.
 
@@ -135,7 +135,7 @@ def _environment_mean(node):
 
 
 def drive_world(node, scene):
-    """The group's World radiance (cycles-lit route, material_nodes._world):
+    """The group's World radiance (cycles-lit route, material_nodes.lights.world_terms):
     the scene world's Background colour x strength, a live driver through
     scene.world (so another world assigned later is followed too). Where
     the colour is linked: an Environment Texture's image is averaged over

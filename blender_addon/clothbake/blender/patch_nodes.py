@@ -21,6 +21,7 @@ the exported OBJ and so the lookup use.
 import bpy
 
 from .graph import Graph
+from .node_compat import group_sockets, new_group_socket
 
 GROUP_NAME = "clothbake patch"
 MODIFIER_NAME = "clothbake patch"
@@ -34,9 +35,9 @@ def _fresh_group():
     if group is not None:
         return group, False
     group = bpy.data.node_groups.new(GROUP_NAME, "GeometryNodeTree")
-    group.inputs.new("NodeSocketGeometry", "Geometry")
-    group.inputs.new("NodeSocketString", _UV_INPUT)
-    group.outputs.new("NodeSocketGeometry", "Geometry")
+    new_group_socket(group, "INPUT", "NodeSocketGeometry", "Geometry")
+    new_group_socket(group, "INPUT", "NodeSocketString", _UV_INPUT)
+    new_group_socket(group, "OUTPUT", "NodeSocketGeometry", "Geometry")
     return group, True
 
 
@@ -129,7 +130,7 @@ def attach(obj, uv_name):
             obj.modifiers.remove(mod)
         mod = obj.modifiers.new(MODIFIER_NAME, "NODES")
     mod.node_group = patch_group()
-    for socket in mod.node_group.inputs:
+    for socket in group_sockets(mod.node_group, "INPUT"):
         if socket.name == _UV_INPUT:
             mod[socket.identifier] = uv_name
     # Last in the stack: it must see the faces every other modifier makes.

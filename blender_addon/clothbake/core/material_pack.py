@@ -53,7 +53,7 @@ light factors (`light_factors.exr`, float RGBA):
     (side_v, i, j), group g at pixel (((g K + i) 2 + ws) Q + 1,
     2 K Q + side_v K + j), the same stride per group as the tiles, so a
     uniform world of radiance W adds W sum_k C_k G_k (the cycles-lit
-    route's world term, material_nodes._world).
+    route's world term, material_nodes.lights.world_terms).
 
 The first `rank` components of each view node are kept (the SVD orders them
 by singular value, so this is each view's best rank-`rank` truncation).
@@ -411,7 +411,7 @@ def span_pixels(centres_mm, repeat_mm, width=SPAN_WIDTH):
     locate_in_span) holds u: e counted from the repeat's first thread, e =
     threads for the next repeat's first (whose span may begin before u = 1),
     start in repeats from the repeat's origin, so that e + (u - start) /
-    span is the crossing coordinate (material_nodes._crossing_address).
+    span is the crossing coordinate (material_nodes.address.crossing_address).
     Near a span's end a sample's thread is the one its centre lies in; the
     nodes' coordinate then runs on past e + 1 by the same slope, which is
     the next thread's crossing, exact to the two widths' difference over

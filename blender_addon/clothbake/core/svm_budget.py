@@ -18,7 +18,7 @@ material of the paper cloth (R 16, K 12, KL 8, 1 sample), rank 24 evaluated
 (the most the add-on evaluates). An area light is read at two points, so it
 counts as two terms; a sun, a point light and a spot count one. On the
 cycles-lit route the world's term (two reads per group of four components:
-material_nodes._world) counts two as well: 12 point lights and the world
+material_nodes.lights.world_terms) counts two as well: 12 point lights and the world
 compiled at a peak of 244 floats, 13 and the world overflowed (colour-free,
 2026-12-05).
 """
