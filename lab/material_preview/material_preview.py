@@ -18,7 +18,6 @@ Run by material_preview.sh under Xvfb, from a timer so the window draws:
 import os
 import sys
 import time
-import traceback
 
 import bpy
 
@@ -27,13 +26,15 @@ ADDON, SCENE, MATERIAL, OUT = (os.path.abspath(a) for a in argv[:4])
 SAMPLES = int(argv[4])
 bpy.context.preferences.view.show_splash = False
 sys.path.insert(0, ADDON)
-state = {"i": 0, "since": time.time(), "ok": True}
+# The window driver the Blender tests use (tests/blender/lib/window.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "tests", "blender"))
+from lib import window  # noqa: E402
+state = {}
 
 
 def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    return win, area, next(r for r in area.regions if r.type == "WINDOW")
+    return window.area("VIEW_3D")
 
 
 def save_render(path):
@@ -92,30 +93,7 @@ def viewport_render():
         bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "preview_window.png"))
 
 
-STEPS = [setup, f12, material_preview, compiled, viewport_render]
+STEPS = [setup, f12, material_preview, ("wait", compiled, 120), viewport_render]
 
 
-def tick():
-    try:
-        if state["i"] >= len(STEPS):
-            with open(os.path.join(OUT, "result.txt"), "w") as f:
-                f.write("passed" if state["ok"] else "failed")
-            bpy.ops.wm.quit_blender()
-            return None
-        step = STEPS[state["i"]]
-        if step is compiled and not compiled():
-            return 0.5
-        print(f"step {step.__name__}", flush=True)
-        if step is not compiled:
-            step()
-        state["i"] += 1
-        return 0.5
-    except Exception:
-        traceback.print_exc()
-        state["ok"] = False
-        state["i"] = len(STEPS)
-        return 0.5
-
-
-os.makedirs(OUT, exist_ok=True)
-bpy.app.timers.register(tick, first_interval=3.0)
+window.drive(STEPS, os.path.join(OUT, "result.txt"), first_interval=3.0)

@@ -1,5 +1,7 @@
-"""The new user's first minutes, in Blender's real window (issue 13), driven
-step by step from a timer so the window draws between steps:
+"""The new user's first minutes, in Blender's real window (what an artist
+meets first: install, a plane, Bake, Apply, F12, Compare, the material),
+driven step by step from a timer (lib.window) so the window draws between
+steps:
 
   1. the add-on installed from its zip (Preferences > Add-ons > Install)
      and enabled, pointed at the program under test;
@@ -13,7 +15,7 @@ step by step from a timer so the window draws between steps:
      Blender has no denoiser; its button pressed;
   5. F12 (render.render invoked as the key does), waited for, saved;
   6. Compare;
-  7. the cloth material (issue 16): a UV sphere added (triangles at its
+  7. the cloth material: a UV sphere added (triangles at its
      poles), the plane's weave set to the Twill 2/1 preset, Bake material
      pressed with small settings (modal, waited for) and so applied to the
      selected plane and sphere; Apply material again; the 3D view switched
@@ -28,36 +30,20 @@ compares Compare's Cycles render with `clothbake lookup-render`.
     DISPLAY=:N blender --factory-startup -P ui_new_user.py -- \
         CLOTHBAKE_EXE ADDON_ZIP WORK_DIR OUT_DIR
 """
-import math
 import os
 import sys
 import time
-import traceback
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lib import window  # noqa: E402
+from lib.checks import check  # noqa: E402
+
 argv = sys.argv[sys.argv.index("--") + 1:]
 CLOTHBAKE, ZIP, WORK, OUT = (os.path.abspath(a) for a in argv[:4])
-failures = []
 bpy.context.preferences.view.show_splash = False
-
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
-
-
-def window_area(kind):
-    win = bpy.context.window_manager.windows[0]
-    for area in win.screen.areas:
-        if area.type == kind:
-            return win, area
-    return win, None
-
-
-def region(area, kind="WINDOW"):
-    return next(r for r in area.regions if r.type == kind)
+region = window.region
 
 
 def shot(name, newest_window=False):
@@ -66,7 +52,7 @@ def shot(name, newest_window=False):
     windows = bpy.context.window_manager.windows
     win = windows[-1] if newest_window else windows[0]
     if not newest_window:
-        _, props = window_area("PROPERTIES")
+        _, props, _ = window.area("PROPERTIES")
         if props is not None:
             with bpy.context.temp_override(window=win, area=props, region=region(props)):
                 for _ in range(6):
@@ -81,13 +67,13 @@ def shot(name, newest_window=False):
 
 def in_properties(op, *args, **kwargs):
     """Runs an operator as a button of the Properties editor does."""
-    win, area = window_area("PROPERTIES")
+    win, area, _ = window.area("PROPERTIES")
     with bpy.context.temp_override(window=win, area=area, region=region(area)):
         return op(*args, **kwargs)
 
 
 def in_view3d(op, *args, **kwargs):
-    win, area = window_area("VIEW_3D")
+    win, area, _ = window.area("VIEW_3D")
     with bpy.context.temp_override(window=win, area=area, region=region(area)):
         return op(*args, **kwargs)
 
@@ -116,7 +102,7 @@ def make_plane():
     scene = bpy.context.scene
     scene.render.resolution_x, scene.render.resolution_y = 480, 270
     scene.clothbake.bake_dir = os.path.join(WORK, "bake")
-    _, props = window_area("PROPERTIES")
+    _, props, _ = window.area("PROPERTIES")
     props.spaces.active.context = "OBJECT"
 
 
@@ -158,7 +144,7 @@ def denoising_off():
 
 
 def start_render():
-    win, area = window_area("VIEW_3D")
+    win, area, _ = window.area("VIEW_3D")
     with bpy.context.temp_override(window=win, area=area):
         result = bpy.ops.render.render("INVOKE_DEFAULT")
     check(result == {"RUNNING_MODAL"}, f"5. F12 renders ({result})")
@@ -187,7 +173,7 @@ def compare():
 def long_bake_asks():
     """The old defaults (a full bake, 64 texels, 4 samples: about 8 minutes
     here) ask before they start: Bake opens a dialog and runs nothing."""
-    from clothbake.blender.operators_bake import CLOTHBAKE_OT_bake
+    from clothbake.blender.operators_lookup import CLOTHBAKE_OT_bake
     settings = bpy.context.scene.clothbake
     settings.adaptive = False
     settings.texels, settings.bake_spp = 64, 4
@@ -223,7 +209,7 @@ def material_setup():
     for obj in scene.objects:
         obj.select_set(obj in (plane, sphere))
     bpy.context.view_layer.objects.active = plane
-    _, props = window_area("PROPERTIES")
+    _, props, _ = window.area("PROPERTIES")
     props.spaces.active.context = "OBJECT"
 
 
@@ -264,7 +250,7 @@ def apply_material():
 
 
 def material_preview():
-    win, area = window_area("VIEW_3D")
+    win, area, _ = window.area("VIEW_3D")
     area.spaces.active.shading.type = "MATERIAL"
     with bpy.context.temp_override(window=win, area=area, region=region(area)):
         bpy.ops.view3d.view_selected()
@@ -306,47 +292,6 @@ STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_pane
          ("shot", "material_04_preview", False), move_light, ("wait", shaders_compiled, 120),
          ("shot", "material_05_light_moved", False), restore_scene,
          long_bake_asks, ("shot", "09_long_bake_asks", False)]
-state = {"i": 0, "since": time.time()}
-START = time.time()
-
-
-def tick():
-    try:
-        if state["i"] >= len(STEPS):
-            print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
-            # quit_blender exits 0 whatever happened: the shell reads this.
-            with open(os.path.join(WORK, "ui_result.txt"), "w") as f:
-                f.write("\n".join(failures) if failures else "passed")
-            bpy.ops.wm.quit_blender()
-            return None
-        step = STEPS[state["i"]]
-        if state.get("announced") != state["i"]:  # where a hung run stopped
-            state["announced"] = state["i"]
-            name = step[1] if isinstance(step, tuple) and step[0] == "shot" else \
-                (step[1].__name__ if isinstance(step, tuple) else step.__name__)
-            print(f"step {state['i'] + 1}/{len(STEPS)} {name} at {time.time() - START:.0f} s", flush=True)
-        if isinstance(step, tuple) and step[0] == "shot":
-            if time.time() - state["since"] < 1.5:
-                return 0.5
-            shot(step[1], newest_window=step[2])
-        elif isinstance(step, tuple):
-            _, done, limit = step
-            if not done():
-                if time.time() - state["since"] > limit:
-                    check(False, f"{done.__name__} within {limit} s")
-                    state["i"] = len(STEPS)
-                return 0.5
-        else:
-            step()
-        state["i"] += 1
-        state["since"] = time.time()
-        return 0.5
-    except Exception:
-        traceback.print_exc()
-        failures.append("exception")
-        state["i"] = len(STEPS)
-        return 0.5
-
-
+state = {}
 os.makedirs(OUT, exist_ok=True)
-bpy.app.timers.register(tick, first_interval=2.0)
+window.drive(STEPS, os.path.join(WORK, "ui_result.txt"), shot=shot)

@@ -1,7 +1,7 @@
-"""A WIF draft in the panel (issue 23), in Blender's real window under Xvfb
+"""A WIF draft in the panel, in Blender's real window under Xvfb
 (ui_wif_panel.sh): the panel's icon needs a window (in `blender -b` every
-preview's icon_id is 0). Driven step by step from a timer so the window
-draws between steps:
+preview's icon_id is 0). Driven step by step from a timer (lib.window) so
+the window draws between steps:
 
   1. the add-on enabled from the source tree, pointed at the program;
      Blender's default scene, the cube deleted, a plane of 64 quads made a
@@ -41,30 +41,24 @@ import os
 import subprocess
 import sys
 import time
-import traceback
 
 import bpy
 
 argv = sys.argv[sys.argv.index("--") + 1:]
 CLOTHBAKE, SOURCE, WORK, OUT, WIF = (os.path.abspath(a) for a in argv[:5])
 sys.path.insert(0, os.path.join(SOURCE, "blender_addon"))
-failures = []
-state = {"i": 0, "since": time.time()}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lib import window  # noqa: E402
+from lib.checks import check  # noqa: E402
+from lib.images import pixels  # noqa: E402
+state = {}
 bpy.context.preferences.view.show_splash = False
 EDITED = [0.62, 0.03, 0.48]  # a magenta no test draft uses
 SCROLL = int(os.environ.get("CLOTHBAKE_UI_SCROLL", "600"))  # px
 
 
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
-
-
 def props_area():
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "PROPERTIES")
-    return win, area, next(r for r in area.regions if r.type == "WINDOW")
+    return window.area("PROPERTIES")
 
 
 def cloth_obj():
@@ -272,12 +266,10 @@ def export():
 def crossings(path, up, warp, weft):
     """crossings.exr: pixel (x = e, y = p), row 0 first, A = 1 warp / 2 weft
     on top, RGB its diffuse = the thread's colour x a per-cell scalar."""
-    import OpenImageIO as oiio
     if not os.path.isfile(path):
         check(False, f"4. the volume has its crossings.exr ({path})")
         return
-    buf = oiio.ImageBuf(path)
-    px = buf.get_pixels(oiio.FLOAT)
+    px = pixels(path)
     ok_shape = px.shape[:2] == (len(up), len(warp))
     check(ok_shape, f"4. crossings.exr is ends x picks ({px.shape[1]} x {px.shape[0]})")
     if not ok_shape:
@@ -371,9 +363,7 @@ TWILL = os.path.join(SOURCE, "testscenes", "wif", "real", "wi_32twill.wif")
 
 
 def view3d():
-    win = bpy.context.window_manager.windows[0]
-    area = next(a for a in win.screen.areas if a.type == "VIEW_3D")
-    return win, area, next(r for r in area.regions if r.type == "WINDOW")
+    return window.area("VIEW_3D")
 
 
 def view_shot(name):
@@ -450,8 +440,7 @@ def recolour():
 def _red_over_blue(path):
     """Red over blue of the mean colour in the middle of the 3D view (the
     plane, 62 threads across: the viewport's sampling noise averages out)."""
-    import OpenImageIO as oiio
-    px = oiio.ImageBuf(path).get_pixels(oiio.FLOAT)[..., :3]
+    px = pixels(path)[..., :3]
     h, w = px.shape[:2]
     mean = px[int(0.45 * h):int(0.7 * h), int(0.35 * w):int(0.65 * w)].reshape(-1, 3).mean(0)
     return mean[0] / max(mean[2], 1e-6)
@@ -487,37 +476,5 @@ STEPS = [setup, load_wif, ("wait", panel_drawn, 30), scroll_to_cloth, ("shot", "
          after_recolour]
 
 
-def tick():
-    try:
-        if state["i"] >= len(STEPS):
-            print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
-            with open(os.path.join(WORK, "ui_result.txt"), "w") as f:
-                f.write("\n".join(failures) if failures else "passed")
-            bpy.ops.wm.quit_blender()
-            return None
-        step = STEPS[state["i"]]
-        if isinstance(step, tuple) and step[0] == "shot":
-            if time.time() - state["since"] < 1.5:
-                return 0.5
-            shot(step[1])
-        elif isinstance(step, tuple):
-            _, done, limit = step
-            if not done():
-                if time.time() - state["since"] > limit:
-                    check(False, f"{done.__name__} within {limit} s")
-                    state["i"] = len(STEPS)
-                return 0.5
-        else:
-            step()
-        state["i"] += 1
-        state["since"] = time.time()
-        return 0.5
-    except Exception:
-        traceback.print_exc()
-        failures.append("exception")
-        state["i"] = len(STEPS)
-        return 0.5
-
-
 os.makedirs(OUT, exist_ok=True)
-bpy.app.timers.register(tick, first_interval=2.0)
+window.drive(STEPS, os.path.join(WORK, "ui_result.txt"), shot=shot)
