@@ -5,7 +5,7 @@ folder fails here instead of drifting apart."""
 import os
 import re
 
-from clothbake.core import defaults, manifest, scene, scene_export
+from clothbake.core import defaults, lookup_manifest, scene, scene_export
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 
@@ -59,7 +59,7 @@ def test_bake_ranges_are_the_programs():
     assert defaults.TEXELS_RANGE == (const("k_min_texels"), const("k_max_texels"))
     assert defaults.BAKE_SPP_RANGE == (const("k_min_bake_spp"), const("k_max_bake_spp"))
     assert defaults.TEXELS_PER_PIXEL_MAX == const("k_max_texels_per_pixel")
-    assert manifest.K_RANGE == defaults.DIRECTIONS_RANGE
+    assert lookup_manifest.K_RANGE == defaults.DIRECTIONS_RANGE
 
 
 def test_folder_tags_are_the_programs():

@@ -1,11 +1,11 @@
-"""The shader's patch arithmetic (clothbake.core.layout) against the
+"""The shader's patch arithmetic (clothbake.core.lookup_layout) against the
 bilinear patch it inverts and the C++ frame it mirrors."""
 import math
 import random
 
 import pytest
 
-from clothbake.core import layout as L
+from clothbake.core import lookup_layout as L
 
 
 def bilerp(c, s, t):
@@ -132,7 +132,7 @@ def test_atlas_uv_addresses_texel_centres_as_the_format_says():
     top (docs/lookup-format.md); as a UV with a bottom-left origin that is
     ((x + a + .5)/W, 1 - (y + b + .5)/H). The index image holds the square's
     origin the shader adds (s, t) x size to, and the size (0: not baked)."""
-    from clothbake.core.manifest import LookupObject, SideAtlas
+    from clothbake.core.lookup_manifest import LookupObject, SideAtlas
     k, w, h = 2, 40, 20
     squares = {(1, 6): (7, 3), (0, 0): (1, 1)}  # (quad 1, back node 6) at (7, 3)
     obj = LookupObject(0, "cloth", "", 2, 1, [4, 10], ["1" + "0" * 7, "0" * 6 + "10"],

@@ -9,7 +9,7 @@ import subprocess
 import pytest
 
 from clothbake.core.errors import ClothbakeError
-from clothbake.core.manifest import read_manifest
+from clothbake.core.lookup_manifest import read_manifest
 
 
 @pytest.fixture(scope="module")

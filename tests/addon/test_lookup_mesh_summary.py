@@ -5,8 +5,8 @@ import math
 import os
 import subprocess
 
-from clothbake.core import mesh_summary
-from clothbake.core.manifest import read_manifest
+from clothbake.core import lookup_mesh_summary
+from clothbake.core.lookup_manifest import read_manifest
 from clothbake.core.obj import read_obj
 
 # The two quads of tests/core/geometry/mesh_summary_test.cpp: a unit square and a
@@ -21,7 +21,7 @@ def quads(positions=POSITIONS):
 
 
 def test_exact_on_two_quads():
-    s = mesh_summary.summarize(quads())
+    s = lookup_mesh_summary.summarize(quads())
     assert s["bounds_min"] == [0, 0, 0] and s["bounds_max"] == [2, 1, 0.5]
     assert s["uv_min"] == [0, 0] and s["uv_max"] == [1, 1]
     assert s["mean_centre"] == [1.0, 0.5, 0.0625]
@@ -29,16 +29,16 @@ def test_exact_on_two_quads():
 
 
 def test_round_trip_through_six_decimals_matches_and_a_moved_vertex_does_not():
-    base = mesh_summary.summarize(quads())
+    base = lookup_mesh_summary.summarize(quads())
     rounded = [tuple(float(f"{c + 1e-7 * (i + 1):.6f}") for c in p) for i, p in enumerate(POSITIONS)]
-    assert mesh_summary.difference(base, mesh_summary.summarize(quads(rounded))) is None
+    assert lookup_mesh_summary.difference(base, lookup_mesh_summary.summarize(quads(rounded))) is None
     moved = list(POSITIONS)
     moved[1] = (1, 0.05, 0)  # an inner vertex, 5% of a quad's size: the bounds stay
-    differs = mesh_summary.difference(base, mesh_summary.summarize(quads(moved)))
+    differs = lookup_mesh_summary.difference(base, lookup_mesh_summary.summarize(quads(moved)))
     assert differs is not None and "mean quad centre" in differs
     # The whole mesh moved: its bounds differ first.
     shifted = [(x + 0.01, y, z) for x, y, z in POSITIONS]
-    assert "lower bounds" in mesh_summary.difference(base, mesh_summary.summarize(quads(shifted)))
+    assert "lower bounds" in lookup_mesh_summary.difference(base, lookup_mesh_summary.summarize(quads(shifted)))
 
 
 def test_agrees_with_clothbakes_bake(clothbake_bin, source_dir, tmp_path):
@@ -49,9 +49,9 @@ def test_agrees_with_clothbakes_bake(clothbake_bin, source_dir, tmp_path):
                    check=True, stdout=subprocess.DEVNULL)
     baked = read_manifest(out).objects[0].mesh
     mesh = read_obj(os.path.join(scene_dir, "cloth.obj"))
-    ours = mesh_summary.summarize([([mesh.positions[i] for i in p], [mesh.uvs[i] for i in t])
+    ours = lookup_mesh_summary.summarize([([mesh.positions[i] for i in p], [mesh.uvs[i] for i in t])
                                    for p, t in mesh.quads])
-    assert mesh_summary.difference(baked, ours) is None
+    assert lookup_mesh_summary.difference(baked, ours) is None
     # Stricter than the tolerance: clothbake sums in double from float corners.
     for key in ("bounds_min", "bounds_max", "mean_centre"):
         assert math.dist(baked[key], ours[key]) < 1e-6

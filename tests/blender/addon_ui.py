@@ -137,7 +137,7 @@ def main():
     settings.directions, settings.texels, settings.bake_spp = 2, 4, 1
     # Estimate before the bake (issue 13): the program's plan for exactly
     # these settings, shown in the panel; its march samples are the bake's.
-    from clothbake.blender.operators_bake import estimate_is_current
+    from clothbake.blender.operators_lookup import estimate_is_current
     check(not estimate_is_current(bpy.context), "slab: no estimate yet")
     result = bpy.ops.clothbake.estimate()
     check(result == {"FINISHED"} and settings.bake_estimate.startswith("about ") and

@@ -7,7 +7,7 @@ the base mesh.
 Blender 3.4 gives Python the viewport evaluation only, so while the mesh is
 read each modifier is switched to its render settings (shown if shown in
 renders; a Subdivision Surface's or Multires's render levels), then put back.
-The apply modifier itself (patch_nodes) only adds attributes and is left
+The apply modifier itself (lookup_patch_nodes) only adds attributes and is left
 out.
 
 Where the result cannot carry a lookup (a face that is not a quad, no UV
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import bpy
 
-from . import patch_nodes
+from . import lookup_patch_nodes
 
 
 @dataclass
@@ -29,7 +29,7 @@ class RenderMesh:
     uv_name: str         # the UV map the weave follows ("" without one)
 
     def quads(self):
-        """(world corners, uvs) per face, for mesh_summary and the checks."""
+        """(world corners, uvs) per face, for lookup_mesh_summary and the checks."""
         return [([self.positions[v] for v in face], uvs)
                 for face, uvs in zip(self.faces, self.face_uvs)]
 
@@ -40,7 +40,7 @@ def _render_settings(obj, upto=None):
     saved = []
     for i, mod in enumerate(obj.modifiers):
         state = {"show_viewport": mod.show_viewport}
-        show = mod.show_render and mod.name != patch_nodes.MODIFIER_NAME and \
+        show = mod.show_render and mod.name != lookup_patch_nodes.MODIFIER_NAME and \
             (upto is None or i <= upto)
         if hasattr(mod, "render_levels") and hasattr(mod, "levels"):
             state["levels"] = mod.levels
@@ -96,7 +96,7 @@ def _read(obj, upto=None):
 
 def _active_modifiers(obj):
     return [m for m in obj.modifiers
-            if m.show_render and m.name != patch_nodes.MODIFIER_NAME]
+            if m.show_render and m.name != lookup_patch_nodes.MODIFIER_NAME]
 
 
 def modifier_list(obj):
@@ -114,7 +114,7 @@ def _culprit(obj, bad):
     if bad(_read(obj, upto=-1)):
         return None
     for i, mod in enumerate(obj.modifiers):
-        if mod.show_render and mod.name != patch_nodes.MODIFIER_NAME and bad(_read(obj, upto=i)):
+        if mod.show_render and mod.name != lookup_patch_nodes.MODIFIER_NAME and bad(_read(obj, upto=i)):
             return mod
     return None
 

@@ -24,7 +24,7 @@ import bpy
 
 from ..core.errors import ClothbakeError
 from ..core.material_pack import is_material_folder
-from .apply import apply_lookup
+from .lookup_apply import apply_lookup
 from .material_apply import apply_material
 from .scene_import import import_scene
 

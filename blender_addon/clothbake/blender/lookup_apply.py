@@ -2,9 +2,9 @@
 
 What it writes onto the mesh: per face, world-space vectors describing the
 face's bilinear patch, its UV Jacobian and its square in the atlas
-(clothbake.core.layout.face_attributes). A material whose node group does,
-per shading point (the arithmetic of layout.patch_parameters and
-layout.frame_from_attributes, which the tests check in plain Python):
+(clothbake.core.lookup_layout.face_attributes). A material whose node group does,
+per shading point (the arithmetic of lookup_layout.patch_parameters and
+lookup_layout.frame_from_attributes, which the tests check in plain Python):
   1. the patch parameters (s, t) where the view ray through the hit point
      meets the quad's bilinear patch, exactly as clothbake's renderer
      intersects it (Blender's two triangles per quad parameterise a
@@ -16,7 +16,7 @@ layout.frame_from_attributes, which the tests check in plain Python):
   3. side = d.z < 0; the hemi-octahedral (u, v) of d; grid position
      (u, v)(K - 1); the four nodes i0..i0+1, j0..j0+1 and weights fx, fy;
   4. per side and node, the square's origin in the packed atlas from the
-     side's index image (pixel (node, quad), Closest; layout.index_pixels),
+     side's index image (pixel (node, quad), Closest; lookup_layout.index_pixels),
      then the atlas at origin + (s, t) x size / (W, H), Linear; texels of
      unbaked pairs multiplied by 0; the four blended bilinearly (colour and
      alpha alike); the side picked by `side`;
@@ -31,14 +31,14 @@ import os
 
 import bpy
 
-from ..core import directions, mesh_summary
+from ..core import directions, lookup_mesh_summary
 from ..core.errors import ClothbakeError
-from ..core.layout import corner_frames, index_pixels
-from ..core.manifest import read_manifest
-from . import evaluated_mesh, patch_nodes
+from ..core.lookup_layout import corner_frames, index_pixels
+from ..core.lookup_manifest import read_manifest
+from . import evaluated_mesh, lookup_patch_nodes
 from .graph import Graph
 from .node_compat import new_group_socket
-from .patch_nodes import ATTR_PREFIX, FACE_ATTRS
+from .lookup_patch_nodes import ATTR_PREFIX, FACE_ATTRS
 
 def _count(n, noun):
     return f"{n} {noun}" + ("" if n == 1 else "s")
@@ -87,7 +87,7 @@ def check_mesh(obj, lookup, lookup_object):
         raise ClothbakeError(f"mesh '{obj.name}' has no UV map{evaluated_mesh.blame(obj, rm)}; "
                              "the weave follows the UVs")
     if lookup_object.mesh is not None:
-        differs = mesh_summary.difference(lookup_object.mesh, mesh_summary.summarize(rm.quads()))
+        differs = lookup_mesh_summary.difference(lookup_object.mesh, lookup_mesh_summary.summarize(rm.quads()))
         if differs:
             raise ClothbakeError(f"mesh '{obj.name}' is not the mesh the lookup's object "
                                  f"'{lookup_object.name}' was baked from: {differs} (was it "
@@ -113,7 +113,7 @@ def load_data_image(path, half=True):
 
 
 def _index_image(name, lookup_object, side, k, hidden=()):
-    """The side's index image (layout.index_pixels), made in memory and
+    """The side's index image (lookup_layout.index_pixels), made in memory and
     packed into the .blend so a saved file keeps it. Float32, Closest: it
     holds addresses, not colours."""
     image = bpy.data.images.get(name)
@@ -156,7 +156,7 @@ def _new_group(name):
 def _patch_inputs(g):
     """Step 0, the inputs: (the shading point and the unit direction toward
     the camera in object space, that direction in world space, the face's
-    patch attributes by name). The patch is in object space (patch_nodes),
+    patch attributes by name). The patch is in object space (lookup_patch_nodes),
     so the point and the direction move there for step 1; an affine map
     keeps the ray's crossing with the patch at the same (s, t)."""
     geometry = g.node("ShaderNodeNewGeometry", 0)
@@ -172,7 +172,7 @@ def _patch_inputs(g):
 
 def _patch_parameters(g, point, incoming, attr):
     """Step 1: the patch parameters (s, t) where the view ray meets the
-    bilinear patch (clothbake.core.layout.patch_parameters, step for step),
+    bilinear patch (clothbake.core.lookup_layout.patch_parameters, step for step),
     and dP/ds at t."""
     e, f, gt = attr["e"], attr["f"], attr["g"]
 
@@ -220,7 +220,7 @@ def _patch_parameters(g, point, incoming, attr):
 
 
 def _view_in_frame(g, attr, s, t, ps, incoming_world):
-    """Step 2: the local frame at (s, t) (layout.frame_from_attributes) and
+    """Step 2: the local frame at (s, t) (lookup_layout.frame_from_attributes) and
     the view direction (x, y, z) in it, and its side. In world space: the
     patch's derivatives move back there (angles are not kept by a
     non-uniform scale)."""
@@ -355,7 +355,7 @@ def build_group(name, k, quads, sides):
 
 def apply_lookup(obj, folder):
     """Applies the lookup in `folder` to mesh object `obj`: the patch
-    modifier (patch_nodes), the node group and a material. Returns (material, notes); raises
+    modifier (lookup_patch_nodes), the node group and a material. Returns (material, notes); raises
     ClothbakeError for a missing folder, a broken manifest or a mismatched
     mesh, before touching the object."""
     if obj is None or obj.type != "MESH":
@@ -398,7 +398,7 @@ def apply_lookup(obj, folder):
     for name in FACE_ATTRS + ("square",):
         if ATTR_PREFIX + name in obj.data.attributes:
             obj.data.attributes.remove(obj.data.attributes[ATTR_PREFIX + name])
-    patch_nodes.attach(obj, rm.uv_name)
+    lookup_patch_nodes.attach(obj, rm.uv_name)
     obj.data.materials.clear()
     obj.data.materials.append(material)
     obj["clothbake_lookup"] = lookup.folder

@@ -1,5 +1,5 @@
 """The geometry-nodes modifier that gives every face of the *evaluated* mesh
-the vectors the lookup shader reads (clothbake.core.layout.face_attributes,
+the vectors the lookup shader reads (clothbake.core.lookup_layout.face_attributes,
 in object space): its bilinear patch (p0, e, f, g), its UV Jacobian terms
 (ue, uf, ug) and its index.
 

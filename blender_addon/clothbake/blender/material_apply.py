@@ -16,8 +16,8 @@ from ..core.material_manifest import SWF
 from ..core.material_pack import pack_material, read_material
 from ..core.svm_budget import stack_note
 from . import material_colours
-from . import patch_nodes
-from .apply import load_data_image
+from . import lookup_patch_nodes
+from .lookup_apply import load_data_image
 from .material_drivers import drive_camera, drive_light, drive_world
 from .material_nodes import (FRAME_SCALE_ATTRIBUTE, STRETCH_ATTRIBUTE, build_group,
                              layout_suffix, light_kinds)
@@ -374,10 +374,10 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
         if cloth is None or not cloth.is_cloth:
             notes.append(f"'{obj.name}' is no cloth object: its colour-free material takes "
                          "the colours it was baked with")
-    # A per-scene lookup's patch modifier (apply.py) means nothing to a
+    # A per-scene lookup's patch modifier (lookup_apply.py) means nothing to a
     # material, and its geometry-nodes output left Eevee's viewport without
     # the UV map's tangents: a black plane in Material Preview.
-    patch_nodes.detach(obj)
+    lookup_patch_nodes.detach(obj)
 
     if unmeasured:
         notes.append(f"{unmeasured} face(s) of '{obj.name}' have no UV area: their weave's "

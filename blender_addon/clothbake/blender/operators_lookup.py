@@ -6,9 +6,9 @@ import bpy
 
 from ..core import program as runner
 from ..core.errors import ClothbakeError
-from ..core.manifest import read_manifest
+from ..core.lookup_manifest import read_manifest
 from . import prefs
-from .apply import apply_lookup
+from .lookup_apply import apply_lookup
 from .operators_job import EstimateJob, ProgramJob, program_path
 from .scene_export_bpy import scene_file_for_bake
 from .targets import is_mesh, selected_else_active

@@ -8,7 +8,7 @@ from ..core import wif_cloth
 from ..core.cloth_fields import DRAFT, WIF
 from . import wif_preview
 from ..core.material_settings import MATERIAL_SETTINGS
-from .operators_bake import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_estimate,
+from .operators_lookup import (CLOTHBAKE_OT_apply, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_estimate,
                              estimate_is_current)
 from .operators_compare import CLOTHBAKE_OT_compare, CLOTHBAKE_OT_denoising_off, denoiser_missing
 from .operators_job import ProgramJob

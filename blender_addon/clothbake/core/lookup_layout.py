@@ -103,7 +103,7 @@ def corner_frames(corners_world, corners_uv):
 
 def face_attributes(corners_world, corners_uv, face):
     """Per-face vectors the shader reads, as the patch modifier
-    (blender/patch_nodes.py) stores them: the patch (p0, e, f, g), its UV
+    (blender/lookup_patch_nodes.py) stores them: the patch (p0, e, f, g), its UV
     Jacobian terms (ue, uf, ug, as (u, v, 0)) and (face index, 0, 0)."""
     p = corners_world
     uv = corners_uv

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from .directions import HEMI_OCTAHEDRAL, POLAR
 from .errors import ClothbakeError
 from .exr import check_exr
-from . import defaults, mesh_summary
+from . import defaults, lookup_mesh_summary
 
 FORMAT = "clothbake-lookup"
 K_RANGE = defaults.DIRECTIONS_RANGE
@@ -41,7 +41,7 @@ class LookupObject:
     sizes: list          # per quad: texels per side of its squares, 0 = none
     baked: list          # per quad: string of 2 K^2 '0'/'1'
     sides: dict          # "front"/"back" -> SideAtlas or None
-    mesh: dict = None    # the baked mesh's summary (mesh_summary.py); None in older lookups
+    mesh: dict = None    # the baked mesh's summary (lookup_mesh_summary.py); None in older lookups
 
     def quad_baked(self, quad):
         return "1" in self.baked[quad]
@@ -229,7 +229,7 @@ def _object(oj, o, k, folder, path):
                 raise ClothbakeError(f"node {n} is marked baked but has no square in "
                                      f"{where}sides.{'front' if n < per_side else 'back'}"
                                      ".squares", path, f"{where}baked[{q}]")
-    mesh = mesh_summary.parse(oj.get("mesh"), path, where + "mesh")
+    mesh = lookup_mesh_summary.parse(oj.get("mesh"), path, where + "mesh")
     return LookupObject(o, name if isinstance(name, str) else "",
                         str(oj.get("cloth_hash", "")), quads, gutter, sizes,
                         list(baked_json), sides, mesh)
