@@ -1,4 +1,4 @@
-"""Headless Blender 3.4 test of the add-on's error reports (issue 7): every
+"""Headless Blender 3.4 test of the add-on's error reports: every
 refused input, met through the operators as an artist invokes them, ends in
 an ERROR report naming what is wrong and a cancelled operator, never a
 Python traceback (run_addon_script.sh also fails on any "Traceback" in
@@ -26,41 +26,10 @@ import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
-
-
-class Reports:
-    """Runs an operator as a script or the UI does (bpy.ops) and keeps what
-    it reported. In background mode an ERROR report reaches the caller as
-    RuntimeError("Error: <report>"); an uncaught exception in the operator
-    as RuntimeError("Error: Python: Traceback ...")."""
-
-    def __init__(self, op, **kwargs):
-        self.result, self.error = None, ""
-        try:
-            self.result = op(**kwargs)
-        except RuntimeError as e:
-            self.error = str(e).strip()
-
-    def refused_with(self, exact):
-        """An ERROR report whose text is exactly `exact` (after "Error: ")."""
-        return self.error == "Error: " + exact
-
-    def describe(self):
-        return f"report '{self.error}'" if self.error else f"no ERROR report (result {self.result})"
-
-
-def expect(op, exact, what, **kwargs):
-    r = Reports(op, **kwargs)
-    check(r.refused_with(exact) and "Traceback" not in r.error,
-          f"{what}: {r.describe()}" + ("" if r.refused_with(exact) else f"; expected '{exact}'"))
-    return r
-
-
-def select(target):
-    for obj in bpy.context.scene.objects:
-        obj.select_set(obj == target)
-    bpy.context.view_layer.objects.active = target
+from lib.checks import check, run_checks  # noqa: E402
+from lib.errors import Reports, expect_report as expect  # noqa: E402
+from lib.headless import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, enable_addon  # noqa: E402
+from lib.scene import select  # noqa: E402
 
 
 def grid_mesh(name, faces, cloth=True):
@@ -144,8 +113,8 @@ def main():
            "two_bad: mesh 'two_bad' has 2 faces that are not quads (first: face 0, 3 corners); "
            "clothbake needs quads (4 corners)", "a. apply to a mesh with two bad faces")
     bpy.data.objects.remove(two_bad)
-    # A quad mesh whose modifier makes triangles (issue 13: bake and apply
-    # take the mesh Cycles renders): the refusal names the modifier.
+    # A quad mesh whose modifier makes triangles (bake and apply take the
+    # mesh Cycles renders, modifiers applied): the refusal names the modifier.
     tri_mod = grid_mesh("tri_mod", [(0, 1, 4, 3), (1, 2, 5, 4)])
     tri_mod.modifiers.new("Triangulate", "TRIANGULATE")
     settings.bake_dir = os.path.join(TMP, "bake_tri_mod")
@@ -296,63 +265,50 @@ def main():
         return write(os.path.join(TMP, "scenes", name + ".json"), json.dumps(data, indent=1))
 
     before = sorted(o.name for o in scene.objects)
-    path = scene_file("missing_obj", lambda d: d["objects"][0].update(mesh="nowhere/cloth.obj"))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{os.path.join(TMP, 'scenes', 'nowhere', 'cloth.obj')}: cannot read the mesh: "
-           "No such file or directory", "d. import of a scene whose OBJ is missing",
-           filepath=path)
-    path = scene_file("fov_text", lambda d: d["camera"].update(fov_deg="wide"))
-    expect(bpy.ops.clothbake.import_scene, f"{path}: camera.fov_deg: must be a finite number",
-           "d. import of a scene with a malformed field (camera.fov_deg)", filepath=path)
-    path = scene_file("direction_short", lambda d: d["lights"][0].update(direction=[0, -1]))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: lights[0].direction: must be an array of 3 numbers",
-           "d. import of a scene with a malformed field (lights[0].direction)", filepath=path)
-    path = scene_file("thickness_text",
-                      lambda d: d["objects"][0].update(thickness_world="thin"))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: objects[0].thickness_world: must be a finite number",
-           "d. import of a scene with a malformed field (objects[0].thickness_world)",
-           filepath=path)
-    path = scene_file("cloth_number", lambda d: d["objects"][0].update(cloth=7))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: objects[0].cloth: must be a cloth spec object or the path of one",
-           "d. import of a scene with a malformed field (objects[0].cloth)", filepath=path)
-    path = scene_file("missing_cloth_file",
-                      lambda d: d["objects"][0].update(cloth="nowhere/cloth.json"))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{os.path.join(TMP, 'scenes', 'nowhere', 'cloth.json')}: cannot read the cloth "
-           "spec: No such file or directory", "d. import of a scene whose cloth spec is missing",
-           filepath=path)
-    path = scene_file("inline_cloth", lambda d: d["objects"][0].update(
-        cloth={"warp": {"width_mm": "wide"}}))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: objects[0].cloth.warp.width_mm: must be a number",
-           "d. import of a scene with a malformed field (objects[0].cloth.warp.width_mm)",
-           filepath=path)
-    path = scene_file("name_number", lambda d: d["objects"][0].update(name=5))
-    expect(bpy.ops.clothbake.import_scene, f"{path}: objects[0].name: must be a non-empty string",
-           "d. import of a scene with a malformed field (objects[0].name)", filepath=path)
-    path = scene_file("albedo_short", lambda d: d["objects"][0].update(isotropic_albedo=[1, 1]))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: objects[0].isotropic_albedo: must be an array of 3 numbers",
-           "d. import of a scene with a malformed field (objects[0].isotropic_albedo)",
-           filepath=path)
-    path = scene_file("render_enum", lambda d: d["render"].update(fiber_model="fancy"))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: render.fiber_model: unknown value \"fancy\"; expected one of: ellipsoid, "
-           "table, kajiya-kay", "d. import of a scene with a malformed field (render.fiber_model)",
-           filepath=path)
-    path = scene_file("render_spp", lambda d: d["render"].update(spp="many"))
-    expect(bpy.ops.clothbake.import_scene, f"{path}: render.spp: must be an integer",
-           "d. import of a scene with a malformed field (render.spp)", filepath=path)
-    path = scene_file("render_seed", lambda d: d["render"].update(seed=2**40))
-    expect(bpy.ops.clothbake.import_scene,
-           f"{path}: render.seed: must be in [0, 2147483647], got {2**40}",
-           "d. import of a scene with a seed Blender cannot hold (render.seed)", filepath=path)
-    path = scene_file("render_number", lambda d: d.update(render=5))
-    expect(bpy.ops.clothbake.import_scene, f"{path}: render: must be an object",
-           "d. import of a scene with a malformed field (render)", filepath=path)
+    # Each case: its scene file's name, the edit, the report ("{path}": the
+    # scene file's), and what is refused.
+    malformed = "d. import of a scene with a malformed field"
+    cases = [
+        ("missing_obj", lambda d: d["objects"][0].update(mesh="nowhere/cloth.obj"),
+         f"{os.path.join(TMP, 'scenes', 'nowhere', 'cloth.obj')}: cannot read the mesh: "
+         "No such file or directory", "d. import of a scene whose OBJ is missing"),
+        ("fov_text", lambda d: d["camera"].update(fov_deg="wide"),
+         "{path}: camera.fov_deg: must be a finite number", f"{malformed} (camera.fov_deg)"),
+        ("direction_short", lambda d: d["lights"][0].update(direction=[0, -1]),
+         "{path}: lights[0].direction: must be an array of 3 numbers",
+         f"{malformed} (lights[0].direction)"),
+        ("thickness_text", lambda d: d["objects"][0].update(thickness_world="thin"),
+         "{path}: objects[0].thickness_world: must be a finite number",
+         f"{malformed} (objects[0].thickness_world)"),
+        ("cloth_number", lambda d: d["objects"][0].update(cloth=7),
+         "{path}: objects[0].cloth: must be a cloth spec object or the path of one",
+         f"{malformed} (objects[0].cloth)"),
+        ("missing_cloth_file", lambda d: d["objects"][0].update(cloth="nowhere/cloth.json"),
+         f"{os.path.join(TMP, 'scenes', 'nowhere', 'cloth.json')}: cannot read the cloth "
+         "spec: No such file or directory", "d. import of a scene whose cloth spec is missing"),
+        ("inline_cloth", lambda d: d["objects"][0].update(cloth={"warp": {"width_mm": "wide"}}),
+         "{path}: objects[0].cloth.warp.width_mm: must be a number",
+         f"{malformed} (objects[0].cloth.warp.width_mm)"),
+        ("name_number", lambda d: d["objects"][0].update(name=5),
+         "{path}: objects[0].name: must be a non-empty string", f"{malformed} (objects[0].name)"),
+        ("albedo_short", lambda d: d["objects"][0].update(isotropic_albedo=[1, 1]),
+         "{path}: objects[0].isotropic_albedo: must be an array of 3 numbers",
+         f"{malformed} (objects[0].isotropic_albedo)"),
+        ("render_enum", lambda d: d["render"].update(fiber_model="fancy"),
+         "{path}: render.fiber_model: unknown value \"fancy\"; expected one of: ellipsoid, "
+         "table, kajiya-kay", f"{malformed} (render.fiber_model)"),
+        ("render_spp", lambda d: d["render"].update(spp="many"),
+         "{path}: render.spp: must be an integer", f"{malformed} (render.spp)"),
+        ("render_seed", lambda d: d["render"].update(seed=2**40),
+         "{path}: render.seed: must be in [0, 2147483647], got " + str(2**40),
+         "d. import of a scene with a seed Blender cannot hold (render.seed)"),
+        ("render_number", lambda d: d.update(render=5),
+         "{path}: render: must be an object", f"{malformed} (render)"),
+    ]
+    for name, edit, report, what in cases:
+        path = scene_file(name, edit)
+        expect(bpy.ops.clothbake.import_scene, report.replace("{path}", path), what,
+               filepath=path)
     path = os.path.join(TMP, "scenes", "binary.json")
     with open(path, "wb") as f:
         f.write(b"\x89PNG\r\n")

@@ -12,15 +12,10 @@ import sys
 import addon_utils
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lib.checks import check, failures, summary  # noqa: E402
+
 zip_path, user_scripts = (os.path.abspath(a) for a in sys.argv[sys.argv.index("--") + 1:][:2])
-failures = []
-
-
-def check(condition, what):
-    print(("ok   " if condition else "FAIL ") + what, flush=True)
-    if not condition:
-        failures.append(what)
-
 
 result = bpy.ops.preferences.addon_install(filepath=zip_path)
 installed = os.path.join(user_scripts, "addons", "clothbake", "__init__.py")
@@ -39,5 +34,5 @@ check(prefs.program != "" and prefs.threads == 0, f"preferences ({prefs.program}
 addon_utils.disable("clothbake", default_set=True, handle_error=None)
 check(not hasattr(bpy.types, "CLOTHBAKE_OT_bake") and not hasattr(bpy.types.Object, "clothbake"),
       "disabled cleanly")
-print(f"{len(failures)} failure(s)" if failures else "all checks passed", flush=True)
+summary()
 sys.exit(1 if failures else 0)

@@ -1,4 +1,4 @@
-"""Headless Blender 3.4 test of the panel's Material section (issue 16):
+"""Headless Blender 3.4 test of the panel's Material section:
 the settings' defaults are the program's, Estimate writes nothing, Bake
 material (small: texels 8, 4 view and 4 light directions, 1 sample) writes
 a "clothbake-material" folder with those settings and puts the material on
@@ -25,27 +25,10 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import TMP, check, enable_addon, run_checks  # noqa: E402
-
-
-def expect_error(op, texts, what, **kwargs):
-    """The operator reports an ERROR containing every text (bpy.ops turns an
-    ERROR report into RuntimeError "Error: ..."), not a Python traceback."""
-    try:
-        result = op(**kwargs)
-    except RuntimeError as e:
-        message = str(e)
-        check(message.startswith("Error:") and "Traceback" not in message and
-              all(t in message for t in texts), f"{what}: ERROR report '{message.strip()}'")
-        return message
-    check(False, f"{what}: expected an ERROR report, got {result}")
-    return ""
-
-
-def select(objs, active):
-    for obj in bpy.context.scene.objects:
-        obj.select_set(obj in objs)
-    bpy.context.view_layer.objects.active = active
+from lib.checks import check, run_checks  # noqa: E402
+from lib.errors import expect_error  # noqa: E402
+from lib.headless import TMP, enable_addon  # noqa: E402
+from lib.scene import select  # noqa: E402
 
 
 def folder_hash(folder):
@@ -199,7 +182,8 @@ def main():
 
 
 def spot_and_area_lights(plane, folder):
-    """Issue 22 (item 3): a scene with a spot and an area light. Estimate
+    """A scene with a spot and an area light (the lights artists use most
+    beside the sun and the point light). Estimate
     and Bake material run; Apply lights the material with both (no note);
     a per-scene export writes them. An area light whose Spread is not 180
     degrees is refused by the export (naming the light and the setting),

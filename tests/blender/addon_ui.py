@@ -19,27 +19,10 @@ import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, check, enable_addon, run_checks  # noqa: E402
-
-
-def expect_error(op, texts, what, **kwargs):
-    """The operator reports an ERROR containing every text (bpy.ops turns an
-    ERROR report into RuntimeError "Error: ..."), not a Python traceback."""
-    try:
-        result = op(**kwargs)
-    except RuntimeError as e:
-        message = str(e)
-        check(message.startswith("Error:") and "Traceback" not in message and
-              all(t in message for t in texts), f"{what}: ERROR report '{message.strip()}'")
-        return message
-    check(False, f"{what}: expected an ERROR report, got {result}")
-    return ""
-
-
-def select(target):
-    for obj in bpy.context.scene.objects:
-        obj.select_set(obj == target)
-    bpy.context.view_layer.objects.active = target
+from lib.checks import check, run_checks  # noqa: E402
+from lib.errors import expect_error  # noqa: E402
+from lib.headless import CLOTHBAKE, PAPER, SLAB, SOURCE, TMP, enable_addon  # noqa: E402
+from lib.scene import select  # noqa: E402
 
 
 def close(a, b, tol=1e-5):
@@ -135,8 +118,9 @@ def main():
     settings.bake_dir = bake_dir
     settings.adaptive = False
     settings.directions, settings.texels, settings.bake_spp = 2, 4, 1
-    # Estimate before the bake (issue 13): the program's plan for exactly
-    # these settings, shown in the panel; its march samples are the bake's.
+    # Estimate before the bake (a new user cannot guess a bake's time): the
+    # program's plan for exactly these settings, shown in the panel; its
+    # march samples are the bake's.
     from clothbake.blender.operators_lookup import estimate_is_current
     check(not estimate_is_current(bpy.context), "slab: no estimate yet")
     result = bpy.ops.clothbake.estimate()
@@ -238,7 +222,8 @@ def main():
     expect_error(bpy.ops.clothbake.import_scene, ["nope.json", "cannot read the scene"],
                  "import of a missing scene", filepath=os.path.join(TMP, "nope.json"))
 
-    # -- no denoiser (issue 13): the panel's warning and its button ------------
+    # -- no denoiser (a Blender built without OpenImageDenoise fails F12 with
+    # denoising on): the panel's warning and its button ----------------------
     from clothbake.blender.operators_compare import denoiser_missing
     import _cycles
     scene = bpy.context.scene

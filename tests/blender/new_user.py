@@ -1,4 +1,5 @@
-"""A new user's scenes, made in Blender rather than imported (issue 13):
+"""A new user's scenes, made in Blender rather than imported (the meshes an
+artist makes, which the imported test scenes never are):
 Blender's default scene, the cube deleted, a plane added and shaped as the
 case says, 'Cloth' ticked, the panel's defaults kept, Bake, Apply, Compare.
 Leaves in WORK: the bake folder (bake/), its exported scene
@@ -29,7 +30,8 @@ import sys
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import check, enable_addon, run_checks, TMP  # noqa: E402
+from lib.checks import check, run_checks  # noqa: E402
+from lib.headless import TMP, enable_addon  # noqa: E402
 
 CASE = sys.argv[sys.argv.index("--") + 4]
 
