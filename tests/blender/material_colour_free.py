@@ -17,10 +17,8 @@ and one of a WIF whose threads have their own spacings (addressed_uneven).
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR [MATERIAL_DIR]
 """
 import json
-import math
 import os
 import shutil
-import subprocess
 import sys
 import time
 
@@ -28,48 +26,43 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, argv, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
-
-import OpenImageIO as oiio  # noqa: E402
+from lib.checks import check, run_checks  # noqa: E402
+from lib.headless import SOURCE, TMP, argv, enable_addon  # noqa: E402
+from lib.images import pixels, rel_rmse, render_still, save_png  # noqa: E402
+from lib.noise import Noisy, blocks, within_noise  # noqa: E402
+from lib.program import run  # noqa: E402
 
 SPP = 32
 SYS = 0.01      # blender.material_routes' systematic part
 PAPER = os.path.join(SOURCE, "testscenes", "paper")
 
 
-def run(args):
-    p = subprocess.run([CLOTHBAKE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
-    return p.stdout
-
-
-def blocks(image, k=4):
-    """Means over k x k pixel blocks (material_routes.blocks)."""
-    h, w = image.shape[0] // k * k, image.shape[1] // k * k
-    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
-
-
 def pair(name):
-    """A render, its noise sigma and its noise over 4 x 4 blocks (two seeds)."""
+    """A render and its noise (two seeds)."""
     t = time.perf_counter()
     a = render_still(os.path.join(TMP, f"{name}_s1.exr"), 1)
     b = render_still(os.path.join(TMP, f"{name}_s2.exr"), 2)
     print(f"{name}: two renders in {time.perf_counter() - t:.1f} s")
-    return a, rel_rmse(a, b) / math.sqrt(2.0), rel_rmse(blocks(a), blocks(b)) / math.sqrt(2.0)
+    return Noisy(a, b)
+
+
+def applied(path, material):
+    """The scene imported (SPP samples, no denoising), its cloth on bilinear
+    patches, the material applied on the exact route: (the cloth, Apply's
+    notes)."""
+    from clothbake.blender.headless import bilinear_patches
+    from clothbake.blender.material_apply import apply_material
+    from clothbake.blender.scene_import import import_scene
+    (obj,) = import_scene(path, clear=True, samples=SPP)
+    bpy.context.scene.cycles.use_denoising = False
+    bilinear_patches(obj)
+    _, notes = apply_material(obj, material, route="exact")
+    return obj, notes
 
 
 def compare(what, noisy, reference):
-    """Pixels and 4 x 4 blocks, each within 3 standard deviations of the
-    difference (lookup-render's noise taken as the render's) plus SYS."""
-    image, sigma, sigma4 = noisy
-    for label, a, b, s in (("pixels", reference, image, sigma),
-                           ("4x4 blocks", blocks(reference), blocks(image), sigma4)):
-        err = rel_rmse(a, b)
-        bound = 3.0 * math.hypot(s, s) + SYS
-        check(err <= bound, f"{what}, {label}: relative RMSE {err:.4f} <= {bound:.4f} "
-                            f"(noise {s:.4f}, systematic {SYS})")
+    """within_noise(), with blender.material_routes' systematic part."""
+    within_noise(what, noisy, reference, SYS)
 
 
 def scene_with(name, warp=None, weft=None):
@@ -99,13 +92,6 @@ def reference(scene_path, material, name):
     return pixels(out)
 
 
-def save_png(image, path):
-    rgb = np.clip(image[..., :3], 0, 1) ** (1 / 2.2)
-    buf = oiio.ImageBuf(oiio.ImageSpec(rgb.shape[1], rgb.shape[0], 3, oiio.UINT8))
-    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(rgb.astype(np.float32)))
-    buf.write(path)
-
-
 def main():
     enable_addon()
     from clothbake.blender import material_colours
@@ -128,16 +114,13 @@ def main():
     sheet = []
     for name, path in cases:
         ref = reference(path, material, name)
-        (obj,) = import_scene(path, clear=True, samples=SPP)
-        bpy.context.scene.cycles.use_denoising = False
-        bilinear_patches(obj)
-        _, notes = apply_material(obj, material, route="exact")
+        obj, notes = applied(path, material)
         print(name, "notes:", notes)
         got = pair(name)
         compare(f"Cycles, {name} colours, against lookup-render", got, ref)
-        save_png(got[0], os.path.join(TMP, f"{name}.png"))
-        save_png(ref, os.path.join(TMP, f"ref_{name}.png"))
-        sheet += [ref, got[0]]
+        save_png([got.image], os.path.join(TMP, f"{name}.png"))
+        save_png([ref], os.path.join(TMP, f"ref_{name}.png"))
+        sheet += [ref, got.image]
 
     # The weft colour changed in the panel, no re-apply: the render follows.
     before = sheet[-1]
@@ -146,12 +129,12 @@ def main():
     ref = reference(scene_with("weft_changed", warp=stripe, weft=[0.6, 0.5, 0.1]), material,
                     "weft_changed")
     got = pair("weft_changed")
-    change = rel_rmse(before, got[0])
-    check(change > 10 * got[1], f"the weft colour's change changes the render (relative "
-                                f"{change:.4f}, noise {got[1]:.4f})")
+    change = rel_rmse(before, got.image)
+    check(change > 10 * got.sigma, f"the weft colour's change changes the render (relative "
+                                f"{change:.4f}, noise {got.sigma:.4f})")
     compare("Cycles after the weft colour changed, against lookup-render", got, ref)
-    save_png(got[0], os.path.join(TMP, "weft_changed.png"))
-    sheet += [ref, got[0]]
+    save_png([got.image], os.path.join(TMP, "weft_changed.png"))
+    sheet += [ref, got.image]
 
     # Eevee (the GPU textures of the strips and the inputs) follows too.
     from clothbake.blender.headless import use_eevee
@@ -166,11 +149,10 @@ def main():
     err = rel_rmse(blocks(e_ref), blocks(e2))
     check(err < 0.05, f"Eevee after the change against lookup-render in that colour, 4x4 "
                       f"blocks: {err:.4f} < 0.05")
-    save_png(np.concatenate([e1, e2], 1), os.path.join(TMP, "eevee_change.png"))
+    save_png([e1, e2], os.path.join(TMP, "eevee_change.png"))
     scene.render.engine = "CYCLES"
-    row = np.concatenate(sheet, 1)
-    save_png(row, os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP),
-                               "material_colour_free.png"))
+    save_png(sheet, os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP),
+                                 "material_colour_free.png"))
 
     # The update's cost: a 48-thread warp stripe, a 480-thread weft sequence.
     rng = np.random.default_rng(1)
@@ -233,15 +215,12 @@ def written_over_its_colours(import_scene, bilinear_patches, apply_material, rea
     check(info.written_repeats == (3.0, 2.0),
           f"hw_8452 bakes its weave's repeat, 3 x 2 per draft as written ({info.written_repeats})")
     ref = reference(path, material, "wif")
-    (obj,) = import_scene(path, clear=True, samples=SPP)
-    bpy.context.scene.cycles.use_denoising = False
-    bilinear_patches(obj)
-    _, notes = apply_material(obj, material, route="exact")
+    obj, notes = applied(path, material)
     print("wif notes:", notes)
     check(not any("depth scale" in n for n in notes), f"no depth-scale note ({notes})")
     got = pair("wif")
     compare("Cycles, a WIF written over its colour repeat, against lookup-render", got, ref)
-    save_png(np.concatenate([ref, got[0]], 1),
+    save_png([ref, got.image],
              os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_wif_written.png"))
 
 
@@ -263,14 +242,11 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
     check(info.address == "crossings" and info.blocks == 30,
           f"the twill is addressed per crossing, 30 blocks ({info.address}, {info.blocks})")
     ref = reference(path, material, "addressed")
-    (obj,) = import_scene(path, clear=True, samples=SPP)
-    bpy.context.scene.cycles.use_denoising = False
-    bilinear_patches(obj)
-    _, notes = apply_material(obj, material, route="exact")
+    obj, notes = applied(path, material)
     print("addressed notes:", notes)
     got = pair("addressed")
     compare("Cycles, a material addressed per crossing, against lookup-render", got, ref)
-    sheet = [ref, got[0]]
+    sheet = [ref, got.image]
 
     # The palette's first colour (a quarter of the ends, a quarter of the
     # picks) turned orange in the panel: the strips follow, no re-apply.
@@ -285,11 +261,11 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
         json.dump(scene, f)
     ref2 = reference(edited, material, "addressed_edited")
     got2 = pair("addressed_edited")
-    change = rel_rmse(got[0], got2[0])
-    check(change > 10 * got2[1], f"the palette's change changes the render (relative "
-                                 f"{change:.4f}, noise {got2[1]:.4f})")
+    change = rel_rmse(got.image, got2.image)
+    check(change > 10 * got2.sigma, f"the palette's change changes the render (relative "
+                                 f"{change:.4f}, noise {got2.sigma:.4f})")
     compare("Cycles after a palette colour changed, against lookup-render", got2, ref2)
-    sheet += [ref2, got2[0]]
+    sheet += [ref2, got2.image]
     # Eevee reads the same images (its GPU textures: the index and the
     # blocks' grid within its limits).
     from clothbake.blender.headless import use_eevee
@@ -301,7 +277,7 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
     check(err < 0.05, f"Eevee, the addressed material after the palette edit, against "
                       f"lookup-render, 4x4 blocks: {err:.4f} < 0.05")
     sheet.append(eevee)
-    save_png(np.concatenate(sheet, 1),
+    save_png(sheet,
              os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_addressed.png"))
 
 
@@ -323,13 +299,10 @@ def addressed_uneven(import_scene, bilinear_patches, apply_material, read_materi
     check(info.even == (False, False), f"d2w_zeros's ends and picks are unevenly spaced "
                                        f"({info.even})")
     ref = reference(path, material, "uneven")
-    (obj,) = import_scene(path, clear=True, samples=SPP)
-    bpy.context.scene.cycles.use_denoising = False
-    bilinear_patches(obj)
-    apply_material(obj, material, route="exact")
+    applied(path, material)
     got = pair("uneven")
     compare("Cycles, addressed on unevenly spaced threads, against lookup-render", got, ref)
-    save_png(np.concatenate([ref, got[0]], 1),
+    save_png([ref, got.image],
              os.path.join(os.environ.get("CLOTHBAKE_SHEET_DIR", TMP), "material_uneven.png"))
 
 

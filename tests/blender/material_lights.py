@@ -1,6 +1,7 @@
 """Headless Blender 3.4 test of the cloth material under the lights artists
-use (issue 22, item 3): a spot light and an area light, then the area light
-moved (no re-bake, no re-apply), and the world per route.
+use (beside the sun and the point light): a spot light and an area light,
+then the area light moved (no re-bake, no re-apply), and the world per
+route.
 
 Tried as a new user would: Blender's default scene (--factory-startup), the
 cube and the default point light deleted, a plane added (subdivided, 64
@@ -64,7 +65,6 @@ light is its only other difference).
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -73,7 +73,10 @@ import numpy as np
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, TMP, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
+from lib import program  # noqa: E402
+from lib.checks import check, run_checks  # noqa: E402
+from lib.headless import TMP, enable_addon  # noqa: E402
+from lib.images import pixels, rel_rmse, render_still  # noqa: E402
 
 SPP = 64                # Cycles, the issue's exact-route samples
 REF_SPP = 64            # clothbake render and lookup-render (the issue's table)
@@ -86,11 +89,7 @@ T0 = time.time()
 
 
 def run(args):
-    p = subprocess.run([CLOTHBAKE] + args + ["--threads", THREADS, "--quiet"],
-                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
-    return p.stdout
+    return program.run(args + ["--threads", THREADS, "--quiet"])
 
 
 def rgb(image):

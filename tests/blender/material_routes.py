@@ -1,4 +1,4 @@
-"""Headless Blender 3.4 test of the cloth material in Blender (issue 16):
+"""Headless Blender 3.4 test of the cloth material in Blender:
 every route against clothbake's own lookup of the same material.
 
 A flat 2 x 2 cloth of the paper weave (8 x 8 quads, made here) and one
@@ -37,7 +37,6 @@ Eevee's own filtering), measured in docs/material.md.
 import json
 import math
 import os
-import subprocess
 import sys
 
 import bpy
@@ -45,9 +44,12 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks, pixels, rel_rmse  # noqa: E402
-
-import OpenImageIO as oiio  # noqa: E402
+from lib.checks import check, run_checks  # noqa: E402
+from lib.headless import SOURCE, TMP, enable_addon  # noqa: E402
+from lib.images import pixels, render_still, save_png  # noqa: E402
+from lib.noise import Noisy, within_noise  # noqa: E402
+from lib.program import run  # noqa: E402
+from lib.scene import lit_flat_scene  # noqa: E402
 
 SPP = 64
 N = 8  # quads a side
@@ -59,19 +61,7 @@ SYS = 0.01
 SYS_BENT = 0.015
 SYS_EEVEE = 0.015
 
-BASE = {
-    "camera": {"position": [0.0, -2.4, 1.8], "look_at": [0.0, 0.0, 0.0], "up": [0, 0, 1],
-               "fov_deg": 45, "fov_axis": "horizontal", "resolution": [160, 100]},
-    "lights": [
-        {"type": "directional", "direction": [0.35, 0.5, -0.8], "color": [1.0, 0.97, 0.92],
-         "intensity": 3.0},
-        {"type": "point", "position": [-1.3, -0.9, 1.1], "color": [0.85, 0.9, 1.0],
-         "intensity": 2.0},
-    ],
-    "background": [0.0, 0.0, 0.0],
-    "render": {"spp": SPP, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
-               "transmittance": "shadow-march", "shading": "fiber", "cutoff": 0.001, "seed": 1},
-}
+BASE = lit_flat_scene(SPP)
 
 
 def plane(z_of=lambda x, y: 0.0):
@@ -118,45 +108,9 @@ def write_scene(name, obj_path, changes=None):
     return path
 
 
-def run(args):
-    p = subprocess.run([CLOTHBAKE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
-    return p.stdout
-
-
-def render(path, seed):
-    scene = bpy.context.scene
-    scene.cycles.seed = seed
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=False)
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return pixels(path)
-
-
-def blocks(image, k=4):
-    """Means over k x k pixel blocks: the noise of independent pixels drops
-    k times, a mistake larger than a few pixels stays."""
-    h, w = image.shape[0] // k * k, image.shape[1] // k * k
-    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
-
-
-class Noisy:
-    """A render and its noise: sigma = relative RMSE between two seeds /
-    sqrt(2), at full resolution and over 4 x 4 blocks."""
-
-    def __init__(self, a, b, spread=math.sqrt(2.0)):
-        """spread: the difference's standard deviation in units of one
-        render's (sqrt(2) for two seeds of equal samples)."""
-        self.image = a
-        self.sigma = rel_rmse(a, b) / spread
-        self.sigma4 = rel_rmse(blocks(a), blocks(b)) / spread
-
-
 def pair(name, seeds=(1, 2)):
-    a = render(os.path.join(TMP, f"{name}_s{seeds[0]}.exr"), seeds[0])
-    b = render(os.path.join(TMP, f"{name}_s{seeds[1]}.exr"), seeds[1])
+    a = render_still(os.path.join(TMP, f"{name}_s{seeds[0]}.exr"), seeds[0])
+    b = render_still(os.path.join(TMP, f"{name}_s{seeds[1]}.exr"), seeds[1])
     return Noisy(a, b)
 
 
@@ -167,29 +121,10 @@ def eevee_pair(name, use_eevee):
     scene = bpy.context.scene
     scene.render.engine = "BLENDER_EEVEE"
     use_eevee(scene, SPP)
-    a = render(os.path.join(TMP, f"{name}.exr"), 1)
+    a = render_still(os.path.join(TMP, f"{name}.exr"), 1)
     use_eevee(scene, 2 * SPP)
-    b = render(os.path.join(TMP, f"{name}2.exr"), 1)
+    b = render_still(os.path.join(TMP, f"{name}2.exr"), 1)
     return Noisy(a, b, spread=math.sqrt(1.5))
-
-
-def compare(what, noisy, reference, systematic, ref_sigma=None):
-    """Full resolution, and over 4 x 4 blocks, each against 3 standard
-    deviations of the difference (the reference's noise taken as the
-    render's unless given) plus the stated systematic part."""
-    errs = []
-    for label, a, b, sigma, rs in (
-            ("pixels", reference, noisy.image, noisy.sigma,
-             noisy.sigma if ref_sigma is None else ref_sigma[0]),
-            ("4x4 blocks", blocks(reference), blocks(noisy.image), noisy.sigma4,
-             noisy.sigma4 if ref_sigma is None else ref_sigma[1])):
-        err = rel_rmse(a, b)
-        bound = 3.0 * math.hypot(sigma, rs) + systematic
-        check(err <= bound, f"{what}, {label}: relative RMSE {err:.4f} <= {bound:.4f} "
-                            f"(noise {sigma:.4f}, reference's {rs:.4f}, systematic "
-                            f"{systematic:.3f})")
-        errs.append(err)
-    return errs
 
 
 def main():
@@ -232,7 +167,7 @@ def main():
     print("notes:", notes)
     exact_n = pair("exact")
     exact = exact_n.image
-    compare("Cycles, exact route", exact_n, refs["base"], SYS)
+    within_noise("Cycles, exact route", exact_n, refs["base"], SYS)
 
     scene = bpy.context.scene
     lights = sorted((o for o in scene.objects if o.type == "LIGHT"), key=lambda o: o.name)
@@ -242,7 +177,7 @@ def main():
         o.matrix_world = Matrix(s["matrix"])
         o.data.color = s["color"]
         o.data.energy = s["energy"]
-    compare("lights moved, recoloured, re-powered after Apply", pair("lights"), refs["lights"],
+    within_noise("lights moved, recoloured, re-powered after Apply", pair("lights"), refs["lights"],
             SYS)
     for o, spec in zip(lights, BASE["lights"]):
         s = blender_light(spec)
@@ -253,7 +188,7 @@ def main():
     from clothbake.core.scene import blender_camera
     cam = scene.camera
     cam.matrix_world = Matrix(blender_camera(moved_camera)["matrix"])
-    compare("camera moved after Apply", pair("camera"), refs["camera"], SYS)
+    within_noise("camera moved after Apply", pair("camera"), refs["camera"], SYS)
     cam.matrix_world = Matrix(blender_camera(BASE["camera"])["matrix"])
 
     # A shape key bends the cloth at frame 2; the material stays as applied.
@@ -267,16 +202,16 @@ def main():
     key.value = 1.0
     key.keyframe_insert("value", frame=2)
     scene.frame_set(2)
-    compare("shape key, frame 2, against the bent OBJ", pair("bent"), refs["bent"], SYS_BENT)
+    within_noise("shape key, frame 2, against the bent OBJ", pair("bent"), refs["bent"], SYS_BENT)
     scene.frame_set(1)
-    compare("shape key back at frame 1, against the flat OBJ", pair("frame1", (3, 4)),
+    within_noise("shape key back at frame 1, against the flat OBJ", pair("frame1", (3, 4)),
             refs["base"], SYS)
 
     # Eevee, the same node group.
     eevee_n = eevee_pair("eevee", use_eevee)
     eevee = eevee_n.image
-    compare("Eevee against lookup-render", eevee_n, refs["base"], SYS_EEVEE)
-    compare("Eevee against Cycles", eevee_n, exact, SYS_EEVEE,
+    within_noise("Eevee against lookup-render", eevee_n, refs["base"], SYS_EEVEE)
+    within_noise("Eevee against Cycles", eevee_n, exact, SYS_EEVEE,
             ref_sigma=(exact_n.sigma, exact_n.sigma4))
     scene.render.engine = "CYCLES"
 
@@ -284,7 +219,7 @@ def main():
     apply_material(obj, material, route="cycles-lit")
     lit_n = pair("lit")
     lit = lit_n.image
-    compare("cycles-lit against exact, unshadowed", lit_n, exact, 0.0,
+    within_noise("cycles-lit against exact, unshadowed", lit_n, exact, 0.0,
             ref_sigma=(exact_n.sigma, exact_n.sigma4))
 
     # A sphere between the sun and the cloth.
@@ -314,7 +249,7 @@ def main():
           f"cycles-lit: outside any shadow the cloth keeps {ratio_out:.4f} of the exact route "
           f"(within {tol:.4f} + 0.01 for the sphere's bounce-free occlusion of the sky)")
     apply_material(obj, material, route="exact")
-    ex_s = render(os.path.join(TMP, "exact_sphere.exr"), 1)
+    ex_s = render_still(os.path.join(TMP, "exact_sphere.exr"), 1)
     ratio_ex = float(ex_s[inside][:, :3].mean() / exact[inside][:, :3].mean())
     check(abs(ratio_ex - 1.0) < 0.05, f"exact route: the sphere casts no shadow on the cloth "
                                       f"({ratio_ex:.4f} of the unshadowed render)")
@@ -360,7 +295,7 @@ def main():
     bilinear_patches(cloth)
     apply_material(cloth, paper_material, route="exact")
     cycles_paper = pair("paper_cycles")
-    compare("paper scene: Eevee against Cycles", eevee_pair("paper_eevee", use_eevee), cycles_paper.image, SYS_EEVEE,
+    within_noise("paper scene: Eevee against Cycles", eevee_pair("paper_eevee", use_eevee), cycles_paper.image, SYS_EEVEE,
             ref_sigma=(cycles_paper.sigma, cycles_paper.sigma4))
     scene.render.engine = "CYCLES"
 
@@ -400,10 +335,7 @@ def shadow_mask(centre, radius, to_sun, light_at=None):
 
 
 def save_sheet(images, path):
-    row = np.concatenate([np.clip(i[..., :3], 0, 1) ** (1 / 2.2) for i in images], 1)
-    buf = oiio.ImageBuf(oiio.ImageSpec(row.shape[1], row.shape[0], 3, oiio.UINT8))
-    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(row.astype(np.float32)))
-    buf.write(path)
+    save_png(images, path)
     print("sheet:", path)
 
 

@@ -1,7 +1,7 @@
 """Headless Blender 3.4 test of the cloth material's frame on every UV
-layout (issue 22, item 1): islands laid with the face winding, mirrored
-against it, rotated in UV space, laid clockwise, and both orientations in
-one mesh, each against `clothbake lookup-render` of the same scene and
+layout (garments lay their islands every way): islands laid with the face
+winding, mirrored against it, rotated in UV space, laid clockwise, and
+both orientations in one mesh, each against `clothbake lookup-render` of the same scene and
 material. lookup-render's frame comes from the patch's dP/du and dP/dv,
 so its weave's warp direction follows dP/dv on any layout; the material in
 Blender must too (B = s N x T, s the UV map's handedness: material_nodes).
@@ -26,7 +26,7 @@ lookup-render's full lookup; Eevee's float16 textures and hashed alpha),
 at full resolution and over 4 x 4 blocks. With the old frame (B = N x T
 everywhere) the mirrored cases measured 3 to 6 times their bound.
 
-Then the stretched cases (issue 22, item 2; stretched()): a Grid scaled
+Then the stretched cases (stretched()): a Grid scaled
 3 x in x with its UVs kept, the open Cylinder as unwrapped, a Grid with
 one island's UVs scaled 0.25, at a 6 x finer weave, each against its
 bounds as above, with the level from each face's scale (the attribute
@@ -42,14 +42,18 @@ old group's directions), which must err at least twice as much over
 import json
 import math
 import os
-import subprocess
 import sys
 
 import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from addon_check import CLOTHBAKE, SOURCE, TMP, check, enable_addon, run_checks, pixels, rel_rmse, render_still  # noqa: E402
+from lib.checks import check, run_checks  # noqa: E402
+from lib.headless import SOURCE, TMP, enable_addon  # noqa: E402
+from lib.images import pixels, rel_rmse, render_still  # noqa: E402
+from lib.noise import Noisy, blocks, within_noise  # noqa: E402
+from lib.program import run  # noqa: E402
+from lib.scene import lit_flat_scene  # noqa: E402
 
 SPP = 32
 REPEATS = 12    # per UV on the 2 x 2 flat cloth the material is baked from
@@ -59,55 +63,7 @@ FINE = 6        # the stretched cases' repeats per UV, times the others' (finer 
                 # the pixel spans texels, so the level matters)
 ISLAND_SCALE = 0.25
 
-BASE = {
-    "camera": {"position": [0.0, -2.4, 1.8], "look_at": [0.0, 0.0, 0.0], "up": [0, 0, 1],
-               "fov_deg": 45, "fov_axis": "horizontal", "resolution": [160, 100]},
-    "lights": [
-        {"type": "directional", "direction": [0.35, 0.5, -0.8], "color": [1.0, 0.97, 0.92],
-         "intensity": 3.0},
-        {"type": "point", "position": [-1.3, -0.9, 1.1], "color": [0.85, 0.9, 1.0],
-         "intensity": 2.0},
-    ],
-    "background": [0.0, 0.0, 0.0],
-    "render": {"spp": SPP, "step_cells": 0.5, "fiber_model": "table", "fiber_samples": 64,
-               "transmittance": "shadow-march", "shading": "fiber", "cutoff": 0.001, "seed": 1},
-}
-
-
-def run(args):
-    p = subprocess.run([CLOTHBAKE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       text=True)
-    if p.returncode != 0:
-        raise RuntimeError(" ".join(args) + ": " + p.stderr[-800:])
-    return p.stdout
-
-
-def blocks(image, k=4):
-    h, w = image.shape[0] // k * k, image.shape[1] // k * k
-    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean((1, 3))
-
-
-class Noisy:
-    def __init__(self, a, b, spread=math.sqrt(2.0)):
-        self.image = a
-        self.sigma = rel_rmse(a, b) / spread
-        self.sigma4 = rel_rmse(blocks(a), blocks(b)) / spread
-
-
-def compare(what, noisy, reference, systematic):
-    """Relative RMSE per pixel and over 4 x 4 blocks against 3 standard
-    deviations of the difference (the reference's noise taken as the
-    render's) plus the systematic part."""
-    out = []
-    for label, a, b, sigma in (("pixels", reference, noisy.image, noisy.sigma),
-                               ("4x4 blocks", blocks(reference), blocks(noisy.image),
-                                noisy.sigma4)):
-        err = rel_rmse(a, b)
-        bound = 3.0 * math.sqrt(2.0) * sigma + systematic
-        check(err <= bound, f"{what}, {label}: relative RMSE {err:.4f} <= {bound:.4f} "
-                            f"(noise {sigma:.4f}, systematic {systematic:.3f})")
-        out.append((err, bound))
-    return out
+BASE = lit_flat_scene(SPP)
 
 
 def against_winding(obj):
@@ -173,12 +129,9 @@ def mirror_modifier(obj):
 
 
 def sleeve():
-    """An open Cylinder primitive lying along x (a sleeve), 16 sides."""
-    bpy.ops.mesh.primitive_cylinder_add(vertices=16, radius=0.45, depth=1.8,
-                                        end_fill_type="NOTHING", calc_uvs=True,
-                                        rotation=(0.0, math.pi / 2, 0.0), location=(0, 0, 0.2))
-    obj = bpy.context.active_object
-    bpy.ops.object.transform_apply(location=True, rotation=True, scale=True)
+    """An open Cylinder primitive lying along x (a sleeve), 16 sides, its
+    UVs squared up."""
+    obj = sleeve_unwrapped()
     square_up(obj)
     return obj
 
@@ -336,14 +289,14 @@ def main():
         scene.render.engine = "CYCLES"
         a = render_still(os.path.join(TMP, f"case{i}_s1.exr"), 1)
         b = render_still(os.path.join(TMP, f"case{i}_s2.exr"), 2)
-        errs = compare(f"Cycles, {what}", Noisy(a, b), ref, SYS)
+        errs = within_noise(f"Cycles, {what}", Noisy(a, b), ref, SYS)
         row = [what, frac, errs]
         if make is half_grid_mirrored:
             use_eevee(scene, SPP)
             ea = render_still(os.path.join(TMP, f"case{i}_eevee.exr"), 1)
             use_eevee(scene, 2 * SPP)
             eb = render_still(os.path.join(TMP, f"case{i}_eevee2.exr"), 1)
-            row.append(compare(f"Eevee, {what}", Noisy(ea, eb, math.sqrt(1.5)), ref,
+            row.append(within_noise(f"Eevee, {what}", Noisy(ea, eb, math.sqrt(1.5)), ref,
                                SYS_EEVEE))
             scene.render.engine = "CYCLES"
         table.append(row)
@@ -367,18 +320,6 @@ def face_scales(obj):
     values = np.empty(len(attr.data), np.float32)
     attr.data.foreach_get("value", values)
     return values
-
-
-def measure(what, noisy, reference):
-    """compare()'s figures and bounds, checked; returned for the table."""
-    out = []
-    for label, a, b, sigma in (("pixels", reference, noisy.image, noisy.sigma),
-                               ("4x4 blocks", blocks(reference), blocks(noisy.image),
-                                noisy.sigma4)):
-        err, bound = rel_rmse(a, b), 3.0 * math.sqrt(2.0) * sigma + SYS
-        check(err <= bound, f"Cycles, {what}, {label}: relative RMSE {err:.4f} <= {bound:.4f}")
-        out.append((err, bound))
-    return out
 
 
 def subsurf_carries(obj):
@@ -405,7 +346,7 @@ def subsurf_carries(obj):
 
 
 def stretched(obj, scene, material, apply_material, world_per_uv, export_scene):
-    """Issue 22, item 2: the level from the UV map's local scale (the face
+    """The stretched cases: the level from the UV map's local scale (the face
     attribute Apply writes) against the mean (the attribute removed: the
     group falls back to its World per UV input, the old behaviour). A finer
     weave (FINE x the repeats, the thickness / FINE: the same depth scale)
@@ -441,7 +382,7 @@ def stretched(obj, scene, material, apply_material, world_per_uv, export_scene):
         a = render_still(os.path.join(TMP, f"stretch{i}_s1.exr"), 1)
         b = render_still(os.path.join(TMP, f"stretch{i}_s2.exr"), 2)
         noisy = Noisy(a, b)
-        errs = measure(what, noisy, ref)
+        errs = within_noise(f"Cycles, {what}", noisy, ref, SYS)
         obj.data.attributes.remove(obj.data.attributes["clothbake_world_per_uv"])
         o = render_still(os.path.join(TMP, f"stretch{i}_mean.exr"), 1)
         old = [(rel_rmse(ref, o), errs[0][1]), (rel_rmse(blocks(ref), blocks(o)), errs[1][1])]

@@ -8,8 +8,8 @@
 # covers the outline, where Blender's triangles and the bilinear patch
 # cover slightly different pixels).
 #   new_user_render.sh BLENDER CLOTHBAKE SOURCE_DIR [CASE...]
-# Measured before the fix of issue 13 (the patch root's float32
-# cancellation): plane 31.3 dB against a bound of 49.7 dB.
+# Measured while the patch root still lost its precision to float32
+# cancellation: plane 31.3 dB against a bound of 49.7 dB.
 set -euo pipefail
 blender=$1 exe=$2 src=$3
 shift 3

@@ -113,13 +113,14 @@ def estimate():
           f"3. Estimate before baking: {text}")
 
 
-def start_bake():
-    result = in_properties(bpy.ops.clothbake.bake, "INVOKE_DEFAULT")
-    check(result == {"RUNNING_MODAL"}, f"3. Bake runs in the background ({result})")
-
-
-def bake_done():
-    return not bpy.context.scene.clothbake.bake_running
+def started(op, what):
+    """A step: clothbake.<op> invoked as its button does (modal, in the
+    background), checked running."""
+    def step():
+        result = in_properties(getattr(bpy.ops.clothbake, op), "INVOKE_DEFAULT")
+        check(result == {"RUNNING_MODAL"}, f"{what} runs in the background ({result})")
+    step.__name__ = f"start_{op}"
+    return step
 
 
 def apply_and_cycles():
@@ -221,15 +222,6 @@ def material_estimate():
           f"8. material Estimate: {text}, nothing written")
 
 
-def start_material():
-    result = in_properties(bpy.ops.clothbake.bake_material, "INVOKE_DEFAULT")
-    check(result == {"RUNNING_MODAL"}, f"8. Bake material runs in the background ({result})")
-
-
-def material_done():
-    return not bpy.context.scene.clothbake.material_running
-
-
 def material_baked():
     import json
     settings = bpy.context.scene.clothbake
@@ -281,12 +273,12 @@ def restore_scene():
 # ("shot", name, newest window) runs a tick after the step before it, once the
 # window has redrawn.
 STEPS = [install, ("shot", "01_installed", False), make_plane, ("shot", "02_panel", False),
-         estimate, ("shot", "03_estimate", False), start_bake, ("wait", bake_done, 600),
+         estimate, ("shot", "03_estimate", False), started("bake", "3. Bake"), ("wait", window.cleared("bake_running"), 600),
          ("shot", "04_baked", False), apply_and_cycles, ("shot", "05_denoiser_warning", False),
          denoising_off, ("shot", "06_denoising_off", False), start_render,
          ("wait", render_done, 300), after_render, ("shot", "07_f12", True), compare,
          ("shot", "08_compare", True), material_setup, material_estimate, ("shot", "material_01_panel", False),
-         start_material, ("shot", "material_02_baking", False), ("wait", material_done, 600),
+         started("bake_material", "8. Bake material"), ("shot", "material_02_baking", False), ("wait", window.cleared("material_running"), 600),
          material_baked, ("shot", "material_03_baked", False), apply_material,
          material_preview, ("wait", shaders_compiled, 120),
          ("shot", "material_04_preview", False), move_light, ("wait", shaders_compiled, 120),

@@ -401,10 +401,6 @@ def addressed_setup():
     state["bake_start"] = time.time()
 
 
-def addressed_bake_done():
-    return not bpy.context.scene.clothbake.material_running
-
-
 def addressed_baked():
     s = bpy.context.scene.clothbake
     folder = os.path.join(WORK, "addressed_material")
@@ -471,7 +467,7 @@ STEPS = [setup, load_wif, ("wait", panel_drawn, 30), scroll_to_cloth, ("shot", "
          after_load_drawn, edit_colour, ("shot", "02_colour_edited"), after_edit_drawn, export,
          reimport,
          ("shot", "03_refused"), spec_json, ("shot", "04_spec_json"),
-         addressed_setup, ("wait", addressed_bake_done, 300), addressed_baked,
+         addressed_setup, ("wait", window.cleared("material_running"), 300), addressed_baked,
          ("wait", shaders_compiled, 60), recolour, ("wait", viewport_followed, 30),
          after_recolour]
 

@@ -51,6 +51,9 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lib.checks import check, failures  # noqa: E402
+
 EXPECTED_TYPES = {
     "density": "FLOAT",
     "specular": "FLOAT",
@@ -63,16 +66,6 @@ DENSITY_SCALE = 100.0  # per Blender unit; the VDB's unit (mm) is one Blender un
 RES = 64
 SAMPLES = 16
 TILT_DEG, AZIMUTH_DEG, OBLIQUE_SCALE = 60.0, 30.0, 0.6
-
-failures = []
-
-
-def check(ok, what):
-    print(("PASS  " if ok else "FAIL  ") + what)
-    if not ok:
-        failures.append(what)
-    return ok
-
 
 def fatal(what):
     raise RuntimeError("vdb_load.py: " + what)

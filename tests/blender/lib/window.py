@@ -81,3 +81,14 @@ def drive(steps, result_path, shot=None, first_interval=2.0):
 
     os.makedirs(os.path.dirname(result_path), exist_ok=True)
     bpy.app.timers.register(tick, first_interval=first_interval)
+
+
+def cleared(setting):
+    """A wait step's predicate: the scene's clothbake.<setting> (a modal
+    operator's running flag, as the panel shows it) is off."""
+    import bpy
+
+    def done():
+        return not getattr(bpy.context.scene.clothbake, setting)
+    done.__name__ = f"{setting} off"
+    return done
