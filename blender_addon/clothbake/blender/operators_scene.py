@@ -4,7 +4,7 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ..core.errors import ClothbakeError
 from ..core.scene import load_scene
-from .props import read_cloth_file
+from .operators_cloth import read_cloth_file
 from .scene_export_bpy import export_scene
 from .scene_import import import_scene
 

@@ -62,7 +62,11 @@ class CLOTHBAKE_PT_cloth(_ObjectPanel, bpy.types.Panel):
         layout.use_property_split = True
         layout.use_property_decorate = False
         cloth = context.object.clothbake
-        layout.prop(cloth, "cloth_path")
+        row = layout.row(align=True)
+        path = row.row(align=True)
+        path.enabled = False  # set by Load cloth file, which reads the file
+        path.prop(cloth, "cloth_path")
+        row.operator("clothbake.load_cloth", text="", icon="FILEBROWSER")
         if cloth.cloth_path:
             layout.label(text="Edited: exported inline" if cloth.cloth_edited
                          else "Exported as a reference to the file",

@@ -2,7 +2,7 @@
 import importlib
 
 # Modules that define CLASSES (and optionally register_extra/unregister_extra).
-_MODULES = ("prefs", "props", "operators_scene", "operators_lookup", "operators_compare",
+_MODULES = ("prefs", "props", "operators_cloth", "operators_scene", "operators_lookup", "operators_compare",
             "operators_material", "wif_preview", "material_colours", "panels")
 
 

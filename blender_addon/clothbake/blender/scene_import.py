@@ -16,6 +16,7 @@ from mathutils import Matrix
 
 from ..core.obj import read_obj
 from ..core.scene import blender_camera, blender_light, load_scene
+from .operators_cloth import load_from_scene_object
 
 CLOTH_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
 
@@ -132,7 +133,7 @@ def import_scene(path, clear=True, samples=16):
         obj["clothbake_name"] = o["name"]
         settings = obj.clothbake if hasattr(obj, "clothbake") else None
         if settings is not None:
-            settings.load_from_scene_object(o)
+            load_from_scene_object(settings, o)
         else:
             for key in CLOTH_KEYS:
                 obj[f"clothbake_{key}"] = o[key]
