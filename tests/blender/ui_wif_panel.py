@@ -106,7 +106,7 @@ def setup():
 def load_wif():
     from clothbake.core import wif_cloth
     cloth = cloth_obj().clothbake
-    cloth.cloth_path = WIF  # as the file browser does: the update reads it
+    bpy.ops.clothbake.load_cloth(filepath=WIF, object_name=cloth.id_data.name)  # the file browser
     check(cloth.wif_status == "", f"2. the program read the WIF ({cloth.wif_status or 'no error'})")
     d = cloth.draft()
     check(d is not None and cloth.weave == "wif" and not cloth.cloth_edited,
@@ -311,7 +311,7 @@ def reimport():
     with open(bad, "w") as f:
         f.write("[WIF]\nVersion=1.1\n[WEAVING]\nShafts=2\nTreadles=2\n[WARP]\n"
                 "Units=centimeters\n[WEFT]\nThreads=2\n")
-    c.cloth_path = bad
+    bpy.ops.clothbake.load_cloth(filepath=bad, object_name=c.id_data.name)
     check(c.draft() is None and "bad.wif" in c.wif_status and "[WARP]" in c.wif_status and
           len(c.wif_palette) == 0 and c.weave == "wif",
           f"5. a WIF without [WARP] Threads: the program's message kept ({c.wif_status})")
@@ -335,7 +335,7 @@ def spec_json():
     with open(spec_path, "w") as f:
         json.dump({"weave": {"wif": os.path.relpath(WIF, os.path.dirname(spec_path))},
                    "weft": {"color": [0.85, 0.45, 0.05]}, "seed": 4}, f)
-    c.cloth_path = spec_path
+    bpy.ops.clothbake.load_cloth(filepath=spec_path, object_name=c.id_data.name)
     d = c.draft()
     got = [list(map(round6, x.color)) for x in c.wif_palette]
     check(c.weave == "wif" and d is not None and c.wif_path == WIF and not c.cloth_edited,
@@ -379,7 +379,7 @@ def addressed_setup():
     62 ends across it; the material panel's Address set to Per crossing,
     small settings, the rest the panel's defaults."""
     obj = cloth_obj()
-    obj.clothbake.cloth_path = TWILL
+    bpy.ops.clothbake.load_cloth(filepath=TWILL, object_name=obj.name)
     obj.clothbake.repeats_per_uv = 1.0
     s = bpy.context.scene.clothbake
     s.material_dir = os.path.join(WORK, "addressed_material")
