@@ -10,32 +10,43 @@ from ..core.lookup_manifest import read_manifest
 from . import prefs
 from .lookup_apply import apply_lookup
 from .operators_job import EstimateJob, ProgramJob, program_path
-from .scene_export_bpy import scene_file_for_bake
+from .scene_export_bpy import scene_file_for_bake, scene_file_for_estimate
 from .targets import is_mesh, selected_else_active
 
 
 def bake_command(context):
-    """(argv, bake folder, scene file) of the bake. Raises ClothbakeError."""
-    settings = context.scene.clothbake
+    """(argv, bake folder, scene file) of the bake: the scene file exported
+    when it no longer describes the scene. Raises ClothbakeError."""
     program = program_path(context)
     scene_path, _ = scene_file_for_bake(context.scene)
-    bake_dir = settings.bake_folder()
+    bake_dir = context.scene.clothbake.bake_folder()
+    return _bake_arguments(context, program, scene_path, bake_dir), bake_dir, scene_path
+
+
+def _bake_arguments(context, program, scene_path, bake_dir):
+    settings = context.scene.clothbake
     args = [program, "bake", scene_path, "-o", bake_dir, "--direction-map", "hemi-octahedral",
             "--directions", str(settings.directions), "--texels", str(settings.texels),
             "--spp", str(settings.bake_spp), "--threads", str(prefs.threads(context))]
     if settings.adaptive:
         args += ["--adaptive", "--texels-per-pixel", "%g" % settings.texels_per_pixel]
-    return args, bake_dir, scene_path
+    return args
 
 
 def estimate_bake(context):
     """Runs `clothbake bake ... --estimate` for the bake the panel would
     start: the program plans it and times a small probe of the real work,
-    before any bake. Stores the summary in scene.clothbake.bake_estimate
-    (with the command it is for) and returns (seconds, bytes).
-    Raises ClothbakeError."""
-    args, _, _ = bake_command(context)
-    report = json.loads(runner.run(args + ["--estimate"], "bake"))
+    before any bake. Writes no file and changes no setting: a scene that
+    changed since its scene file is exported to a temporary folder. Stores
+    the summary in scene.clothbake.bake_estimate (with the command it is
+    for) and returns (seconds, bytes). Raises ClothbakeError."""
+    program = program_path(context)
+    bake_dir = context.scene.clothbake.bake_folder()
+    if not bake_dir:
+        raise ClothbakeError("set a bake folder (or export the scene first)", "", "bake folder")
+    with scene_file_for_estimate(context.scene) as scene_path:
+        args = _bake_arguments(context, program, scene_path, bake_dir)
+        report = json.loads(runner.run(args + ["--estimate"], "bake"))
     seconds = float(report["seconds_estimated"]) + float(report.get("setup_seconds", 0.0))
     size = int(report["bytes_uncompressed"])
     settings = context.scene.clothbake

@@ -14,7 +14,7 @@ from ..core.material_settings import (check_material_values, material_arguments,
                                       material_values)
 from . import prefs
 from .operators_job import EstimateJob, ProgramJob, Refused, program_path, report_error
-from .scene_export_bpy import build_model, cloth_objects
+from .scene_export_bpy import build_model, cloth_objects, scene_file_for_estimate
 from .targets import selected_else_active
 
 
@@ -48,26 +48,40 @@ def _material_scene_file(scene, folder):
     return scene_export.write_scene(model, os.path.join(folder + ".scene", "scene.json"))
 
 
-def material_command(context):
-    """(argv, material folder) of the material bake. Raises ClothbakeError."""
+def _material_job(context):
+    """(program, object index, material folder) of the material bake, each
+    checked. Raises ClothbakeError."""
     settings = context.scene.clothbake
     program = program_path(context)
-    values = material_values(settings)
-    check_material_values(values)
+    check_material_values(material_values(settings))
     _, index = _material_target(context)
     folder = settings.material_folder()
     if not folder:
         raise ClothbakeError("set a material folder (or save the .blend file, or export the "
                              "scene first)", "", "material folder")
-    scene_path = _material_scene_file(context.scene, folder)
-    if not settings.material_dir:
-        settings.material_dir = folder  # kept when the scene file changes
+    return program, index, folder
+
+
+def _material_arguments(context, program, scene_path, index, folder):
+    settings = context.scene.clothbake
     # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
     # colours recolour the applied material with no bake (docs/material.md).
-    args = [program, "material", scene_path, "--object", str(index), "-o", folder,
-            *material_arguments(values), "--address", settings.material_address,
-            "--parts", "auto", "--threads", str(prefs.threads(context))]
-    return args, folder
+    return [program, "material", scene_path, "--object", str(index), "-o", folder,
+            *material_arguments(material_values(settings)), "--address",
+            settings.material_address, "--parts", "auto", "--threads",
+            str(prefs.threads(context))]
+
+
+def material_command(context):
+    """(argv, material folder) of the material bake: the scene file
+    exported when it no longer describes the scene, and the folder kept in
+    material_dir. Raises ClothbakeError."""
+    program, index, folder = _material_job(context)
+    scene_path = _material_scene_file(context.scene, folder)
+    settings = context.scene.clothbake
+    if not settings.material_dir:
+        settings.material_dir = folder  # kept when the scene file changes
+    return _material_arguments(context, program, scene_path, index, folder), folder
 
 
 def _estimate_key(context):
@@ -87,11 +101,15 @@ def material_estimate_is_current(context):
 def estimate_material(context):
     """Runs `clothbake material ... --estimate` for the bake the panel would
     start (the program times a probe of the real work and writes nothing).
+    Nor does the add-on: no setting changes, and a scene that changed since
+    its scene file is exported to a temporary folder, removed afterwards.
     Stores the summary in scene.clothbake.material_estimate and returns
     (seconds, bytes of the table at full rank, an upper bound). Raises
     ClothbakeError."""
-    args, _ = material_command(context)
-    report = json.loads(runner.run(args + ["--estimate"], "material"))
+    program, index, folder = _material_job(context)
+    with scene_file_for_estimate(context.scene, supported_lights_only=True) as scene_path:
+        args = _material_arguments(context, program, scene_path, index, folder)
+        report = json.loads(runner.run(args + ["--estimate"], "material"))
     seconds = float(report["seconds"])
     size = int(report["max_bytes"])
     settings = context.scene.clothbake

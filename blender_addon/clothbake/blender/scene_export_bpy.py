@@ -13,6 +13,9 @@ conversion), as import reads them.
 import math
 import os
 import re
+import shutil
+import tempfile
+from contextlib import contextmanager
 
 from ..core import scene_export
 from ..core.errors import ClothbakeError
@@ -162,6 +165,24 @@ def export_scene(scene, path):
     path = scene_export.write_scene(model, _abspath(path))
     scene.clothbake.scene_path = path
     return path
+
+
+@contextmanager
+def scene_file_for_estimate(scene, supported_lights_only=False):
+    """The scene file an estimate reads, which writes nothing and changes no
+    setting: the scene file when it still describes the Blender scene, else
+    an export to a temporary folder, removed when the block ends."""
+    model = build_model(scene, supported_lights_only=supported_lights_only)
+    settings = scene.clothbake
+    current = os.path.abspath(_abspath(settings.scene_path)) if settings.scene_path else ""
+    if current and scene_export.scene_matches_file(model, current):
+        yield current
+        return
+    folder = tempfile.mkdtemp(prefix="clothbake_estimate_")
+    try:
+        yield scene_export.write_scene(model, os.path.join(folder, "scene.json"))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def scene_file_for_bake(scene):
