@@ -19,7 +19,7 @@ scenes=("$@")
 ((${#scenes[@]})) || scenes=(paper paper_far flat)
 out="$CLOTHBAKE_ROOT/out/chart"
 mkdir -p "$out"
-{ date -u; git -C "$CLOTHBAKE_ROOT" rev-parse --short HEAD; lscpu | grep -E "Model name|^CPU\(s\)"; free -g | head -2; blender --version 2>/dev/null | head -1; } >"$out/machine.txt"
+{ git -C "$CLOTHBAKE_ROOT" rev-parse --short HEAD; lscpu | grep -E "Model name|^CPU\(s\)"; free -g | head -2; blender --version 2>/dev/null | head -1; } >"$out/machine.txt"
 for scene in "${scenes[@]}"; do
   scale=1.0
   [[ $scene == paper ]] && scale=0.5
