@@ -18,6 +18,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "blender_addon"))
 
 from clothbake.core import scene_export as se  # noqa: E402
+from clothbake.core import scene_match as sm  # noqa: E402
 from clothbake.core.errors import ClothbakeError  # noqa: E402
 from clothbake.core.obj import read_obj  # noqa: E402
 from clothbake.core.scene import (blender_camera, blender_light, camera_basis,  # noqa: E402
@@ -64,7 +65,7 @@ def test_camera_round_trip_without_hint_is_the_same_camera(scene):
     forward = camera_basis(cam)[2]
     offset = [a - b for a, b in zip(out["look_at"], out["position"])]
     assert_vec([c / math.sqrt(sum(x * x for x in offset)) for c in offset], forward, 1e-9)
-    assert se.same_camera(out, cam)
+    assert sm.same_camera(out, cam)
 
 
 @pytest.mark.parametrize("scene", [PAPER, SLAB])
@@ -83,7 +84,7 @@ def test_moved_camera_keeps_hint_distance_but_not_its_numbers():
     assert_vec(out["position"], [cam["position"][0] + 0.5] + cam["position"][1:], 1e-6)
     dist = lambda c: math.dist(c["position"], c["look_at"])  # noqa: E731
     assert abs(dist(out) - dist(cam)) <= 1e-9
-    assert not se.same_camera(out, cam)
+    assert not sm.same_camera(out, cam)
 
 
 def test_sensor_fit_auto_follows_the_larger_side():
@@ -277,11 +278,11 @@ def test_spot_and_area_lights_in_a_written_scene_read_back(tmp_path):
     out = se.write_scene(model, tmp_path / "scene.json")
     back = load_scene(out)
     assert back["lights"][-len(SPOT_AND_AREA):][0] == SPOT_AND_AREA[0]
-    assert se.scene_matches_file(model, out)
+    assert sm.scene_matches_file(model, out)
     model["lights"][-1] = dict(model["lights"][-1], size=0.3)
-    assert not se.scene_matches_file(model, out)
+    assert not sm.scene_matches_file(model, out)
     model["lights"][-1] = dict(model["lights"][-1], size=0.25, shape="disk")
-    assert not se.scene_matches_file(model, out)
+    assert not sm.scene_matches_file(model, out)
 
 
 def test_clothbake_accepts_spot_and_area_lights(tmp_path, clothbake_bin):
@@ -360,24 +361,24 @@ def test_written_scene_reads_back_the_same(tmp_path, scene):
             assert a[k] == b[k]
         assert a["cloth_path"] == b["cloth_path"]  # the same spec file, referred to relatively
         assert not os.path.isabs(json.load(open(out))["objects"][0]["cloth"])
-    assert se.scene_matches_file(model, scene)
-    assert se.scene_matches_file(model, out)
+    assert sm.scene_matches_file(model, scene)
+    assert sm.scene_matches_file(model, out)
 
 
 def test_scene_matches_file_sees_changes():
     model = model_of(PAPER)
     model["objects"][0]["thickness_world"] = 0.02
-    assert not se.scene_matches_file(model, PAPER)
+    assert not sm.scene_matches_file(model, PAPER)
     model = model_of(PAPER)
     model["render"]["spp"] = 5
-    assert not se.scene_matches_file(model, PAPER)
+    assert not sm.scene_matches_file(model, PAPER)
     model = model_of(PAPER)
     model["objects"][0]["mesh"].positions[0] = (9.0, 9.0, 9.0)
-    assert not se.scene_matches_file(model, PAPER)
+    assert not sm.scene_matches_file(model, PAPER)
     model = model_of(PAPER)
     model["objects"][0]["cloth"] = {"weave": {"pattern": "twill_2_2"}}
-    assert not se.scene_matches_file(model, PAPER)
-    assert not se.scene_matches_file(model_of(PAPER), "/nonexistent/scene.json")
+    assert not sm.scene_matches_file(model, PAPER)
+    assert not sm.scene_matches_file(model_of(PAPER), "/nonexistent/scene.json")
 
 
 def test_write_is_atomic_on_failure(tmp_path):
@@ -434,9 +435,9 @@ def test_a_vdb_texture_round_trips_and_renders(tmp_path, clothbake_bin):
     out = se.write_scene(model, tmp_path / "exported" / "scene.json")
     assert json.load(open(out))["objects"][0]["volume"] == os.path.join("..", "vdb", "volume.vdb")
     assert load_scene(out)["objects"][0]["volume_path"] == str(vdb_dir / "volume.vdb")
-    assert se.scene_matches_file(model, source) and se.scene_matches_file(model, out)
+    assert sm.scene_matches_file(model, source) and sm.scene_matches_file(model, out)
     model["objects"][0]["volume"] = None
-    assert not se.scene_matches_file(model, source)
+    assert not sm.scene_matches_file(model, source)
 
     images = []
     for scene in (source, Path(out)):

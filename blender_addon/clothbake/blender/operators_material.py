@@ -7,7 +7,7 @@ import os
 import bpy
 
 from ..core import program as runner
-from ..core import scene_export
+from ..core import scene_export, scene_match
 from ..core.errors import ClothbakeError
 from ..core.material_manifest import read_material
 from ..core.material_settings import (check_material_values, material_arguments, material_key,
@@ -43,7 +43,7 @@ def _material_scene_file(scene, folder):
     settings = scene.clothbake
     current = os.path.abspath(bpy.path.abspath(settings.scene_path)) if settings.scene_path \
         else ""
-    if current and scene_export.scene_matches_file(model, current):
+    if current and scene_match.scene_matches_file(model, current):
         return current
     return scene_export.write_scene(model, os.path.join(folder + ".scene", "scene.json"))
 

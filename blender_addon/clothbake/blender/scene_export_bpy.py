@@ -17,7 +17,7 @@ import shutil
 import tempfile
 from contextlib import contextmanager
 
-from ..core import scene_export
+from ..core import scene_export, scene_match
 from ..core.errors import ClothbakeError
 from ..core.scene import load_scene
 from . import evaluated_mesh
@@ -175,7 +175,7 @@ def scene_file_for_estimate(scene, supported_lights_only=False):
     model = build_model(scene, supported_lights_only=supported_lights_only)
     settings = scene.clothbake
     current = os.path.abspath(_abspath(settings.scene_path)) if settings.scene_path else ""
-    if current and scene_export.scene_matches_file(model, current):
+    if current and scene_match.scene_matches_file(model, current):
         yield current
         return
     folder = tempfile.mkdtemp(prefix="clothbake_estimate_")
@@ -192,7 +192,7 @@ def scene_file_for_bake(scene):
     model = build_model(scene)
     settings = scene.clothbake
     current = os.path.abspath(_abspath(settings.scene_path)) if settings.scene_path else ""
-    if current and scene_export.scene_matches_file(model, current):
+    if current and scene_match.scene_matches_file(model, current):
         return current, False
     bake_dir = settings.bake_folder()
     if not bake_dir:

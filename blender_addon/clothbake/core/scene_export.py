@@ -1,7 +1,8 @@
 """Export: a clothbake scene (docs/scene-format.md) built from plain data
 (world matrices, lens and sensor, light energies, quad meshes), the inverse
 of clothbake.core.scene's blender_camera / blender_light, and written to
-disk atomically.
+disk atomically. Whether a scene file still describes a Blender scene is
+scene_match.py's.
 
 Blender keeps floats as float32, so numbers that went through it come back
 a few ulps off ("0.7" as 0.699999988). Where the scene the Blender scene was
@@ -18,9 +19,10 @@ import struct
 from . import defaults
 from .cloth_fields import short_float
 from .errors import ClothbakeError
-from .obj import QuadMeshData, format_obj, read_obj
-from .scene import (AREA_WATTS_PER_INTENSITY, FIBER_MODELS, POINT_WATTS_PER_IRRADIANCE, SHADINGS,
-                    SPOT_WATTS_PER_INTENSITY, TRANSMITTANCES, camera_basis, load_scene)
+from .obj import QuadMeshData, format_obj
+from .scene import (AREA_WATTS_PER_INTENSITY, FIBER_MODELS,  # noqa: F401 (for the panel)
+                    POINT_WATTS_PER_IRRADIANCE, SHADINGS, SPOT_WATTS_PER_INTENSITY,
+                    TRANSMITTANCES, camera_basis)
 
 RENDER_DEFAULTS = defaults.RENDER_DEFAULTS  # the program's (core/defaults.py)
 OBJECT_KEYS = ("repeats_per_uv", "thickness_world", "extinction_per_mm")
@@ -39,12 +41,12 @@ def _norm(a):
     return math.sqrt(sum(c * c for c in a))
 
 
-def _normalized(a):
+def normalized(a):
     n = _norm(a)
     return [c / n for c in a] if n > 0 else [0.0, 0.0, 0.0]
 
 
-def _close(a, b, tol=SNAP_TOLERANCE):
+def is_close(a, b, tol=SNAP_TOLERANCE):
     """Numbers or vectors equal within tol relative to their size (at least 1)."""
     if isinstance(a, (int, float)):
         return abs(a - b) <= tol * max(1.0, abs(a), abs(b))
@@ -57,7 +59,7 @@ def _column(matrix, c):
 
 def _snap(value, hint):
     """hint when value is hint back from float32, else value (float32 tidied)."""
-    if hint is not None and _close(value, hint):
+    if hint is not None and is_close(value, hint):
         return list(hint) if isinstance(hint, list) else hint
     if isinstance(value, (int, float)):
         return short_float(value)
@@ -90,8 +92,8 @@ def camera_from_blender(matrix, lens, sensor_width, sensor_height, sensor_fit, r
     fov_deg = math.degrees(2.0 * math.atan(0.5 * sensor / lens))
 
     position = _column(matrix, 3)
-    forward = _normalized([-c for c in _column(matrix, 2)])
-    up = _normalized(_column(matrix, 1))
+    forward = normalized([-c for c in _column(matrix, 2)])
+    up = normalized(_column(matrix, 1))
     if _norm(forward) == 0 or _norm(up) == 0:
         raise ClothbakeError("the camera's world matrix is singular", "", "camera")
 
@@ -102,7 +104,7 @@ def camera_from_blender(matrix, lens, sensor_width, sensor_height, sensor_fit, r
     look_at = None
     if hint is not None:
         hint_offset = _sub(hint["look_at"], hint["position"])
-        if _close(position, hint["position"]) and _close(forward, _normalized(hint_offset)):
+        if is_close(position, hint["position"]) and is_close(forward, normalized(hint_offset)):
             position, look_at = list(hint["position"]), list(hint["look_at"])
         else:
             look_distance = _norm(hint_offset) or look_distance
@@ -114,7 +116,7 @@ def camera_from_blender(matrix, lens, sensor_width, sensor_height, sensor_fit, r
     if hint is not None:
         try:
             _, hint_up, _ = camera_basis(dict(camera, up=hint["up"]))
-            if _close(hint_up, up):
+            if is_close(hint_up, up):
                 camera["up"] = list(hint["up"])
         except (ZeroDivisionError, ValueError):
             pass
@@ -128,7 +130,7 @@ SCALE_TOLERANCE = 1e-4
 
 
 def _snap_direction(direction, hint_direction):
-    if hint_direction is not None and _close(direction, _normalized(hint_direction)):
+    if hint_direction is not None and is_close(direction, normalized(hint_direction)):
         return list(hint_direction)
     return direction
 
@@ -164,7 +166,7 @@ def _spot_from_blender(name, matrix, energy, settings, hint):
                              "Eevee draws that cone as an ellipse, and "
                              "clothbake's spot cone is round (Cycles 3.4 ignores a spot's "
                              "scale); make them equal", "", where)
-    direction = _normalized([-c for c in _column(matrix, 2)])
+    direction = normalized([-c for c in _column(matrix, 2)])
     if _norm(direction) == 0:
         raise ClothbakeError("the light's world matrix is singular", "", where)
     size_deg = _degrees(float(settings["spot_size"]))
@@ -212,9 +214,9 @@ def _area_from_blender(name, matrix, energy, settings, hint):
         out_size = _snap([width, height], hint_size if isinstance(hint_size, list) else None)
     return {"type": "area",
             "position": _snap(_column(matrix, 3), hint["position"] if hint else None),
-            "direction": _snap_direction(_normalized([-c for c in z]),
+            "direction": _snap_direction(normalized([-c for c in z]),
                                          hint["direction"] if hint else None),
-            "x_axis": _snap_direction(_normalized(x), hint["x_axis"] if hint else None),
+            "x_axis": _snap_direction(normalized(x), hint["x_axis"] if hint else None),
             "shape": shape, "size": out_size,
             "intensity": float(energy) / AREA_WATTS_PER_INTENSITY}
 
@@ -240,10 +242,10 @@ def light_from_blender(name, light_type, matrix, color, energy, hint=None, setti
         hint = None
     color = _snap([float(c) for c in color], hint["color"] if hint else None)
     if light_type == "SUN":
-        direction = _normalized([-c for c in _column(matrix, 2)])
+        direction = normalized([-c for c in _column(matrix, 2)])
         if _norm(direction) == 0:
             raise ClothbakeError("the light's world matrix is singular", "", f"light '{name}'")
-        if hint is not None and _close(direction, _normalized(hint["direction"])):
+        if hint is not None and is_close(direction, normalized(hint["direction"])):
             direction = list(hint["direction"])
         intensity = _snap(float(energy), hint["intensity"] if hint else None)
         return {"type": "directional", "direction": direction, "color": color,
@@ -251,14 +253,14 @@ def light_from_blender(name, light_type, matrix, color, energy, hint=None, setti
     if light_type == "POINT":
         position = _snap(_column(matrix, 3), hint["position"] if hint else None)
         intensity = float(energy) / POINT_WATTS_PER_IRRADIANCE
-        if hint is not None and _close(intensity, hint["intensity"]):
+        if hint is not None and is_close(intensity, hint["intensity"]):
             intensity = hint["intensity"]
         return {"type": "point", "position": position, "color": color, "intensity": intensity}
     if settings is None:
         raise ClothbakeError(f"the {kind} light's settings are missing", "", f"light '{name}'")
     light = (_spot_from_blender if light_type == "SPOT" else _area_from_blender)(
         name, matrix, energy, settings, hint)
-    if hint is not None and _close(light["intensity"], hint["intensity"]):
+    if hint is not None and is_close(light["intensity"], hint["intensity"]):
         light["intensity"] = hint["intensity"]
     light["color"] = color
     return light
@@ -418,99 +420,3 @@ def write_scene(model, scene_path):
                                              "clothbake Blender add-on"))
     _write_atomic(scene_path, json.dumps(scene_json(model, scene_path), indent=2) + "\n")
     return scene_path
-
-
-def _same_cloth(a, b):
-    def as_dict(c):
-        if isinstance(c, dict):
-            return c
-        try:
-            with open(c, encoding="utf-8") as f:
-                return json.load(f)
-        except (OSError, ValueError):
-            return None
-    if isinstance(a, str) and isinstance(b, str) and os.path.abspath(a) == os.path.abspath(b):
-        return True
-    da, db = as_dict(a), as_dict(b)
-    return da is not None and da == db
-
-
-def _same_mesh(a, b, tol):
-    if len(a.quads) != len(b.quads):
-        return False
-    for (pa, ta), (pb, tb) in zip(a.quads, b.quads):
-        for i in range(4):
-            if not _close(list(a.positions[pa[i]]), list(b.positions[pb[i]]), tol):
-                return False
-            if not _close(list(a.uvs[ta[i]]), list(b.uvs[tb[i]]), tol):
-                return False
-    return True
-
-
-def _same_light(a, b, tol):
-    if a["type"] != b["type"] or not _close(a["color"], b["color"], tol) or \
-            not _close(a["intensity"], b["intensity"], tol):
-        return False
-    if a["type"] == "directional":
-        return _close(_normalized(a["direction"]), _normalized(b["direction"]), tol)
-    if not _close(a["position"], b["position"], tol):
-        return False
-    if a["type"] == "point":
-        return True
-    if not _close(_normalized(a["direction"]), _normalized(b["direction"]), tol):
-        return False
-    if a["type"] == "spot":
-        return _close(a["spot_size_deg"], b["spot_size_deg"], tol) and \
-            _close(a["spot_blend"], b["spot_blend"], tol)
-    return (a["shape"] == b["shape"] and _close(_normalized(a["x_axis"]),
-                                                _normalized(b["x_axis"]), tol)
-            and type(a["size"]) is type(b["size"]) and _close(a["size"], b["size"], tol))
-
-
-def same_camera(a, b, tol=SNAP_TOLERANCE):
-    """Whether two clothbake cameras give the same image."""
-    if a["fov_axis"] != b["fov_axis"] or list(a["resolution"]) != list(b["resolution"]):
-        return False
-    if not _close(a["fov_deg"], b["fov_deg"], tol) or not _close(a["position"], b["position"], tol):
-        return False
-    return all(_close(x, y, tol) for x, y in zip(camera_basis(a), camera_basis(b)))
-
-
-def scene_matches_file(model, path, tol=SNAP_TOLERANCE):
-    """Whether the scene file at `path` describes `model` (same camera image,
-    lights, objects, meshes within tol, cloth, background and render
-    settings), so baking that file is baking this scene. False when the file
-    cannot be read."""
-    try:
-        other = load_scene(path)
-        other_meshes = [read_obj(o["mesh_path"]) for o in other["objects"]]
-    except ClothbakeError:
-        return False
-    if not same_camera(model["camera"], other["camera"], tol):
-        return False
-    if len(model["lights"]) != len(other["lights"]) or not all(
-            _same_light(a, b, tol) for a, b in zip(model["lights"], other["lights"])):
-        return False
-    if len(model["objects"]) != len(other["objects"]):
-        return False
-    for o, p, mesh in zip(model["objects"], other["objects"], other_meshes):
-        if o["name"] != p["name"] or not all(_close(o[k], p[k], tol) for k in OBJECT_KEYS):
-            return False
-        albedo = o.get("isotropic_albedo") or [0.8, 0.8, 0.8]
-        if not _close(albedo, p["isotropic_albedo"], tol):
-            return False
-        if not _same_cloth(o["cloth"], p.get("cloth_path", p.get("cloth"))):
-            return False
-        volume = os.path.abspath(o["volume"]) if o.get("volume") else None
-        if volume != p.get("volume_path"):
-            return False
-        if not _same_mesh(o["mesh"], mesh, tol):
-            return False
-    if not _close(model["background"], other["background"], tol):
-        return False
-    try:
-        other_render = render_settings(other["json"].get("render") or {})
-    except ClothbakeError:
-        return False
-    return all(_close(v, other_render[k], tol) if isinstance(v, float) else v == other_render[k]
-               for k, v in model["render"].items())
