@@ -125,8 +125,8 @@ class ProgramJob:
         if ProgramJob._running:
             return self._refuse("a bake is running already")
         # The estimate first (a second or two): a long bake asks before it
-        # starts, with its seconds and bytes (issue 13: a first full bake ran
-        # past 10 minutes with no word beforehand).
+        # starts, with its seconds and bytes (a first full bake can run past
+        # 10 minutes, and should not do so with no word beforehand).
         try:
             seconds = self._estimate(context)
         except ClothbakeError as e:

@@ -12,15 +12,15 @@ compile GLSL instead (not measured this far). A hidden light is still read
 (its driver zeroes it, so showing it again needs no new Apply), so only
 lights removed from the scene lower the count.
 
-The limits are measured, not derived (scripts/dev/svm_peak.sh, Cycles 3.4,
-2026-12-04): the paper scene with its lights replaced by N point lights, a
+The limits are measured, not derived (scripts/dev/svm_peak.sh, Cycles 3.4):
+the paper scene with its lights replaced by N point lights, a
 material of the paper cloth (R 16, K 12, KL 8, 1 sample), rank 24 evaluated
 (the most the add-on evaluates). An area light is read at two points, so it
 counts as two terms; a sun, a point light and a spot count one. On the
 cycles-lit route the world's term (two reads per group of four components:
-material_nodes.lights.world_terms) counts two as well: 12 point lights and the world
-compiled at a peak of 244 floats, 13 and the world overflowed (colour-free,
-2026-12-05).
+material_nodes.lights.world_terms) counts two as well: 12 point lights and
+the world compiled at a peak of 244 floats, 13 and the world overflowed
+(colour-free).
 """
 
 # (colour-free parts?, route) -> the most light terms that still compile.
