@@ -11,7 +11,7 @@ material's baked-with colours (manifest cloth.colors).
 
 `refresh(obj)` rewrites the strips' pixels and the inputs' values, in numpy
 and with no program run: the panel's colour fields call it on every change
-(props.py), so an applied material follows at once in Cycles, Eevee and
+(props_cloth.py), so an applied material follows at once in Cycles, Eevee and
 Material Preview. What the strips are made from (thread centres, repeat,
 texels, levels, q) is kept on the material (STRIPS_KEY, JSON), so a refresh
 reads no file. A sequence of another length changes q: the strip is then left

@@ -1,6 +1,6 @@
 """Reading a cloth material folder's manifest.json (docs/material-format.md),
 checked as far as Blender needs it, beside the lookup's reader
-(core/manifest.py). The ranges are the program's (core/defaults.py).
+(core/lookup_manifest.py). The ranges are the program's (core/defaults.py).
 Versions 1 to 3: version 1 is read as parts "rgb"; version 2's colour-free
 parts ("specular-warp-weft") bring the cloth's threads and its colours;
 version 3 (address "crossings") stores one block per class of crossings and

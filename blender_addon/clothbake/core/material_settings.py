@@ -1,6 +1,6 @@
 """The material bake's settings, listed once: each one's name, label,
 description and the `clothbake material` option that takes it. The panel's
-properties (blender/props.py), its rows (blender/panels.py), the command
+properties (blender/props_scene.py), its rows (blender/panels.py), the command
 line and the estimate's cache key (blender/operators_material.py) are all
 made from this table; the defaults and ranges are the program's
 (core/defaults.py, held to baker/core/material/material_settings.h).
