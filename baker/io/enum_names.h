@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 #include "core/fiber/fiber_model.h"
 #include "core/march/march_settings.h"
 #include "core/material/material_settings.h"

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 #include "core/util/random.h"
 #include "core/weave/cloth_colours.h"
 
