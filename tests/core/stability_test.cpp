@@ -1,4 +1,4 @@
-// Stability suite (issue 6): drives each method into the regimes where it
+// Stability suite: drives each method into the regimes where it
 // may fail and records what happens (docs/stability.md).
 //
 // Every test asserts that no output is NaN or Inf and that outputs stay in
@@ -24,10 +24,10 @@
 #include <gtest/gtest.h>
 
 #include "core/bake/baker.h"
-#include "core/geometry/direction_grid.h"
 #include "core/bake/lookup_table.h"
 #include "core/fiber/fiber_model.h"
 #include "core/fiber/fiber_table.h"
+#include "core/geometry/direction_grid.h"
 #include "core/geometry/quad_patch.h"
 #include "core/render/renderer.h"
 #include "core/texture/volume_generator.h"
