@@ -16,12 +16,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "cli/shard_option.h"
-#include "core/util/hex.h"
 #include "cli/memory_budget.h"
+#include "cli/setting_flags.h"
+#include "cli/shard_option.h"
 #include "cli/thread_limit.h"
 #include "core/bake/baker.h"
 #include "core/util/error.h"
+#include "core/util/hex.h"
 #include "io/lookup_io.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
@@ -68,20 +69,14 @@ void finish_bake_args(BakeArgs& args) {
       args.map == "hemi-octahedral" ? DirectionMap::HemiOctahedral : DirectionMap::Polar;
 }
 
-/// The flag of a bake setting the core names in an error (BakeSettings'
-/// fields), or null for an error about the scene.
-const char* bake_flag(const std::string& setting) {
-  static const std::pair<const char*, const char*> k_flags[] = {
-      {"directions", "--directions"},
-      {"texels", "--texels"},
-      {"spp", "--spp"},
-      {"texels_per_pixel", "--texels-per-pixel"},
-      {"quads", "--quads"},
-      {"shard", "--shard"}};
-  for (const auto& [name, flag] : k_flags)
-    if (setting == name) return flag;
-  return nullptr;
-}
+/// The flags of the bake settings the core names in an error (BakeSettings'
+/// fields).
+constexpr SettingFlag k_bake_flags[] = {{"directions", "--directions"},
+                                        {"texels", "--texels"},
+                                        {"spp", "--spp"},
+                                        {"texels_per_pixel", "--texels-per-pixel"},
+                                        {"quads", "--quads"},
+                                        {"shard", "--shard"}};
 
 /// What step 1 leaves for the bake: the scene, prepared, and the plan,
 /// all checked.
@@ -103,7 +98,7 @@ void prepare_bake(const BakeArgs& args, BakeJob& job) {
     job.plan = plan_bake(*job.prepared, args.settings);
   } catch (const InputError& e) {
     // The core names a bake setting; here it is the flag that set it.
-    if (const char* flag = bake_flag(e.field())) throw InputError(flag, e.message());
+    if (flag_of(k_bake_flags, e.field())) throw with_flag(k_bake_flags, e);
     throw e.in_file(args.scene);
   }
   job.bytes = io::lookup_bytes(job.plan.objects);

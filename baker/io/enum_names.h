@@ -6,8 +6,8 @@
 #include <string>
 #include <utility>
 
-#include "core/bake/direction_grid.h"
 #include "core/fiber/fiber_model.h"
+#include "core/geometry/direction_grid.h"
 #include "core/march/march_settings.h"
 #include "core/material/material_settings.h"
 #include "io/json_reader.h"
@@ -52,7 +52,7 @@ inline constexpr std::array<std::pair<const char*, CrossingStencil>, 2> k_crossi
     {"plus-1", CrossingStencil::Plus1},
     {"3x3", CrossingStencil::Square1},
 }};
-/// How a material's light fields are read (core/material/light_fields.h), in
+/// How a material's light fields are read (core/material_bake/light_fields.h), in
 /// its manifest and on `clothbake material --light-fields`.
 inline constexpr std::array<std::pair<const char*, LightFieldMethod>, 3> k_light_field_names{{
     {"auto", LightFieldMethod::Auto},

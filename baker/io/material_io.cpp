@@ -5,8 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "core/material/material_bake.h"
-#include "core/material/material_shard.h"
+#include "core/material_bake/bake_rules.h"
+#include "core/material_bake/material_bake.h"
+#include "core/material_bake/material_shard.h"
 #include "core/util/error.h"
 #include "core/util/hex.h"
 #include "io/cloth_spec_json.h"
@@ -14,6 +15,7 @@
 #include "io/enum_names.h"
 #include "io/folder_output.h"
 #include "io/json_reader.h"
+#include "io/material_manifest.h"
 #include "io/text_file.h"
 
 namespace clothbake::io {
@@ -23,10 +25,9 @@ namespace fs = std::filesystem;
 using Imath::V3f;
 using nlohmann::json;
 
-constexpr const char* k_light_file = "light_factors.exr";
-constexpr const char* k_crossings_file = "crossings.exr";
-
-std::string level_file(int m) { return "level_" + std::to_string(m) + ".exr"; }
+constexpr const char* k_light_file = k_material_light_file;
+constexpr const char* k_crossings_file = k_material_crossings_file;
+std::string level_file(int m) { return material_level_file(m); }
 
 /// "k0003": zero-padded, so that the names sort in component order (OpenEXR
 /// stores channels sorted by name; readers find them by name).
@@ -48,18 +49,6 @@ std::vector<std::string> level_channels(int max_rank, MaterialParts parts) {
   return names;
 }
 
-json v3_json(const V3f& c) { return json::array({c.x, c.y, c.z}); }
-
-json palette_json(const YarnPalette& p) {
-  auto family = [](const V3f& color, const std::vector<V3f>& colors) {
-    json f = {{"color", v3_json(color)}};
-    for (const V3f& c : colors) f["colors"].push_back(v3_json(c));  // absent when none
-    return f;
-  };
-  return {{"warp", family(p.warp_color, p.warp_colors)},
-          {"weft", family(p.weft_color, p.weft_colors)}};
-}
-
 /// The light factors' channels: one per component, at least one.
 std::vector<std::string> light_channels(int max_rank) {
   std::vector<std::string> names;
@@ -77,88 +66,6 @@ DataImageExpect expect(int width, int height, std::vector<std::string> channels)
   want.missing = "missing: the material folder is incomplete";
   want.channels_from = "the manifest's max_rank gives " + std::to_string(want.channels.size());
   return want;
-}
-
-json manifest_json(const ClothMaterial& m, const MaterialInfo& info) {
-  const MaterialSettings& s = m.settings;
-  const MaterialOptics& o = m.optics;
-  json j;
-  j["format"] = k_material_format_name;
-  // Version 3 only where its layout differs: a version-2 reader still reads
-  // every material addressed over the whole repeat.
-  j["version"] = m.addressed() ? k_material_format_version : 2;
-  j["parts"] = enum_name(k_material_parts_names, s.parts);
-  j["cloth"] = {{"name", info.cloth_name}, {"hash", hex16(m.cloth_hash)}, {"source", info.source}};
-  if (m.colour_parts()) {
-    j["cloth"]["spec"] = cloth_spec_json(m.cloth);
-    j["cloth"]["colors"] = palette_json(m.palette);
-    j["cloth"]["written_repeats"] = {m.written_repeats.x, m.written_repeats.y};
-    j["cloth"]["threads"] = {{"warp", {{"centres_mm", thread_centres_mm(m.cloth, true)}}},
-                             {"weft", {{"centres_mm", thread_centres_mm(m.cloth, false)}}}};
-  }
-  j["repeat_mm"] = {m.repeat_mm.x, m.repeat_mm.y, m.repeat_mm.z};
-  j["texels"] = s.texels;
-  j["levels"] = m.levels();
-  if (m.addressed()) {
-    j["address"] = enum_name(k_material_address_names, s.address);
-    j["crossings"] = {{"ends", m.crossings.ends},
-                      {"picks", m.crossings.picks},
-                      {"blocks", m.crossings.count()},
-                      {"context", s.context},
-                      {"members", s.members},
-                      {"stencil", enum_name(k_crossing_stencil_names, s.stencil)},
-                      {"file", k_crossings_file}};
-    // Written only when used: a material without phase bins keeps its bytes.
-    if (s.phase_bins > 1) j["crossings"]["phase_bins"] = s.phase_bins;
-  }
-  j["directions"] = s.directions;
-  j["light_directions"] = s.light_directions;
-  j["direction_map"] = "hemi-octahedral";
-  j["light_direction_map"] = enum_name(k_light_map_names, s.light_map);
-  j["spp"] = s.spp;
-  j["max_error"] = s.max_error;
-  j["field_supersample"] = s.field_supersample;
-  // Written where it is not the method every material before it used, so
-  // that an interpolated material's manifest keeps its bytes.
-  if (s.light_fields == LightFieldMethod::LayerMarch)
-    j["light_fields"] = enum_name(k_light_field_names, s.light_fields);
-  j["fiber_tangent_nodes"] = s.fiber_tangent_nodes;
-  j["view_parallax"] = s.view_parallax;
-  j["parallax_depth_mm"] = m.parallax_depth_mm;
-  j["seed"] = s.seed;
-  j["optics"] = {{"depth_scale", o.depth_scale},
-                 {"extinction_per_mm", o.extinction_per_mm},
-                 {"shading", enum_name(k_shading_names, o.shading)},
-                 {"isotropic_albedo", {o.isotropic_albedo.x, o.isotropic_albedo.y,
-                                       o.isotropic_albedo.z}},
-                 {"fiber_model", enum_name(k_fiber_model_names, o.fiber_model)},
-                 {"fiber_samples", o.fiber_samples},
-                 {"fiber_seed", o.fiber_seed},
-                 {"step_cells", o.step_cells},
-                 {"cutoff", o.cutoff},
-                 {"light_roulette", o.light_roulette}};
-  // Written where the map stretches the repeat, so that an unstretched
-  // material's manifest keeps its bytes.
-  if (o.aspect != 1.0f) j["optics"]["aspect"] = o.aspect;
-  j["max_rank"] = m.max_rank;
-  json ranks = json::array(), errors = json::array();
-  for (int v = 0; v < m.view_count(); ++v) {
-    ranks.push_back(m.rank[v]);
-    errors.push_back(m.error[v]);
-  }
-  j["ranks"] = ranks;
-  j["errors"] = errors;
-  json levels = json::array();
-  for (int l = 0; l < m.levels(); ++l) levels.push_back(level_file(l));
-  j["files"] = {{"levels", levels}, {"light_factors", k_light_file}};
-  if (!m.shard.whole())
-    j["shard"] = {{"part", m.shard.index + 1},
-                  {"of", m.shard.count},
-                  {"views", material_shard_views(m.view_grid, m.shard)}};
-  j["bake"] = {{"rays", info.stats.rays},
-               {"march_samples", info.stats.march_samples},
-               {"fiber_evaluations", info.stats.fiber_evaluations}};
-  return j;
 }
 
 /// Level `l`'s coefficient atlas, as written: alpha, then RGB per component.
@@ -193,7 +100,8 @@ std::vector<float> light_pixels(const ClothMaterial& m) {
   for (int v = 0; v < m.view_count(); ++v)
     for (size_t n = 0; n < L; ++n)
       for (int k = 0; k < m.max_rank; ++k)
-        pixels[(size_t(v) * L + n) * nc + k] = m.light_factors[(size_t(v) * L + n) * m.max_rank + k];
+        pixels[(size_t(v) * L + n) * nc + k] =
+            m.light_factors[(size_t(v) * L + n) * m.max_rank + k];
   return pixels;
 }
 
@@ -207,8 +115,8 @@ void check_format(const JsonObject& top) {
   std::string format;
   top.read("format", format);
   if (format != k_material_format_name)
-    top.fail("format", "expected \"" + std::string(k_material_format_name) + "\", got \"" +
-                           format + "\"");
+    top.fail("format",
+             "expected \"" + std::string(k_material_format_name) + "\", got \"" + format + "\"");
   int version = 0;
   top.read("version", version);
   if (version < 1 || version > k_material_format_version)
@@ -243,9 +151,11 @@ MaterialSettings read_settings(const JsonObject& top, const std::string& manifes
   read_enum(top, "address", k_material_address_names, s.address);
   if (s.address == MaterialAddress::Crossings) {
     if (s.parts != MaterialParts::SpecularWarpWeft)
-      top.fail("address", "\"crossings\" needs colour-free parts (\"parts\": "
-                          "\"specular-warp-weft\")");
-    if (!top.has("crossings")) top.fail("crossings", "is missing (the material is addressed per crossing)");
+      top.fail("address",
+               "\"crossings\" needs colour-free parts (\"parts\": "
+               "\"specular-warp-weft\")");
+    if (!top.has("crossings"))
+      top.fail("crossings", "is missing (the material is addressed per crossing)");
     top.object("crossings").read("context", s.context);
     top.object("crossings").read("members", s.members);
     s.stencil = CrossingStencil::Plus1;  // before the 3 x 3 stencil
@@ -276,7 +186,8 @@ MaterialOptics read_optics(const JsonObject& o) {
   o.read("light_roulette", op.light_roulette);
   if (!(op.depth_scale > 0.0f) || !std::isfinite(op.depth_scale))
     o.fail(o.field("depth_scale"), "must be positive");
-  if (!(op.aspect > 0.0f) || !std::isfinite(op.aspect)) o.fail(o.field("aspect"), "must be positive");
+  if (!(op.aspect > 0.0f) || !std::isfinite(op.aspect))
+    o.fail(o.field("aspect"), "must be positive");
   if (!(op.extinction_per_mm > 0.0f) || !std::isfinite(op.extinction_per_mm))
     o.fail(o.field("extinction_per_mm"), "must be positive");
   return op;
@@ -330,7 +241,8 @@ void read_shard(const JsonObject& top, SharedParts parts, ClothMaterial& m) {
   } catch (const InputError& e) {
     shard.fail(shard.field("part"), e.message());
   }
-  if (m.shard.whole()) shard.fail(shard.field("of"), "must be at least 2 (a part of a sharded bake)");
+  if (m.shard.whole())
+    shard.fail(shard.field("of"), "must be at least 2 (a part of a sharded bake)");
   if (!shard.has("views")) shard.fail(shard.field("views"), "is missing");
   const json& listed = shard.raw("views");
   std::vector<int> views;
@@ -366,10 +278,11 @@ void read_crossings(const std::string& dir, const JsonObject& c, const ClothMate
   const std::vector<float> index = read_data_image_float(path, expect(ends, picks, {"block"}));
   for (size_t i = 0; i < index.size(); ++i)
     if (index[i] != float(m.crossings.class_of[i]))
-      throw InputError("block", "crossing (end " + std::to_string(i % size_t(ends)) + ", pick " +
-                                    std::to_string(i / size_t(ends)) + ") holds block " +
-                                    std::to_string(index[i]) + "; the cloth spec gives " +
-                                    std::to_string(m.crossings.class_of[i]),
+      throw InputError("block",
+                       "crossing (end " + std::to_string(i % size_t(ends)) + ", pick " +
+                           std::to_string(i / size_t(ends)) + ") holds block " +
+                           std::to_string(index[i]) + "; the cloth spec gives " +
+                           std::to_string(m.crossings.class_of[i]),
                        path);
 }
 
@@ -402,8 +315,8 @@ void read_images(const std::string& dir, ClothMaterial& m) {
   }
   const std::vector<std::string> lc = light_channels(m.max_rank);
   const size_t L = size_t(m.light_count());
-  const std::vector<float> lights = read_data_image_float(
-      (fs::path(dir) / k_light_file).string(), expect(int(L), m.view_count(), lc));
+  const std::vector<float> lights = read_data_image_float((fs::path(dir) / k_light_file).string(),
+                                                          expect(int(L), m.view_count(), lc));
   for (int v = 0; v < m.view_count(); ++v)
     for (size_t n = 0; n < L; ++n)
       for (int k = 0; k < m.max_rank; ++k)
@@ -439,10 +352,10 @@ void write_material(const std::string& dir, const ClothMaterial& m, const Materi
                      light_channels(m.max_rank), light_pixels(m).data());
     if (m.addressed()) {
       std::vector<float> blocks(m.crossings.class_of.begin(), m.crossings.class_of.end());
-      write_data_image((temp_dir / k_crossings_file).string(), m.crossings.ends,
-                       m.crossings.picks, {"block"}, blocks.data());
+      write_data_image((temp_dir / k_crossings_file).string(), m.crossings.ends, m.crossings.picks,
+                       {"block"}, blocks.data());
     }
-    write_json_file((temp_dir / k_folder_manifest_name).string(), manifest_json(m, info));
+    write_json_file((temp_dir / k_folder_manifest_name).string(), material_manifest_json(m, info));
   });
 }
 
@@ -482,7 +395,7 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
     weft.read("color", p.weft_color);
     weft.read("colors", p.weft_colors);
     m.set_cloth(spec, p);
-    cloth.read("written_repeats", m.written_repeats);  // absent before 2026-12-05: 1 x 1
+    cloth.read("written_repeats", m.written_repeats);  // absent from older manifests: 1 x 1
     if (!(m.written_repeats.x >= 1.0f && m.written_repeats.y >= 1.0f &&
           m.written_repeats.x == std::round(m.written_repeats.x) &&
           m.written_repeats.y == std::round(m.written_repeats.y)))
@@ -495,8 +408,8 @@ ClothMaterial read_material(const std::string& dir, MaterialInfo& info, uint64_t
   read_table_shape(top, memory_budget, m);
   top.read("parallax_depth_mm", m.parallax_depth_mm);
   if (!(m.parallax_depth_mm >= 0.0f && m.parallax_depth_mm <= m.repeat_mm.z))
-    top.fail("parallax_depth_mm", "must be in [0, the cloth's thickness " +
-                                      std::to_string(m.repeat_mm.z) + " mm]");
+    top.fail("parallax_depth_mm",
+             "must be in [0, the cloth's thickness " + std::to_string(m.repeat_mm.z) + " mm]");
   read_shard(top, parts, m);
   if (top.has("bake")) {
     const JsonObject bake = top.object("bake");

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/material/cloth_material.h"
-#include "core/material/material_bake.h"
+#include "core/material_bake/material_bake.h"
 
 namespace clothbake::io {
 

@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/material/material_shard.h"
-#include "core/material/view_parallax.h"
+#include "core/material_bake/material_shard.h"
+#include "core/material_bake/parallax_fit.h"
 #include "core/util/error.h"
 #include "io/folder_output.h"
 #include "io/json_reader.h"
@@ -60,9 +60,10 @@ PartManifest read_part_manifest(const std::string& dir) {
   if (!m.doc.is_object() || m.doc.value("format", "") != k_material_format_name)
     throw InputError("format", "is not a material folder's manifest", m.path);
   if (!m.doc.contains("shard") || !m.doc["shard"].is_object())
-    throw InputError("shard", "is missing: " + dir +
-                                  " is a whole material, not a part of a sharded bake "
-                                  "(clothbake material --shard I/N)",
+    throw InputError("shard",
+                     "is missing: " + dir +
+                         " is a whole material, not a part of a sharded bake "
+                         "(clothbake material --shard I/N)",
                      m.path);
   const json& s = m.doc["shard"];
   if (!s.contains("part") || !s["part"].is_number_integer())
@@ -89,9 +90,9 @@ void check_parts_belong(const std::vector<PartManifest>& parts) {
                        p.path);
     }
     if (p.part < 1 || p.part > p.of)
-      throw InputError("shard.part",
-                       "must be in [1, " + std::to_string(p.of) + "], got " + std::to_string(p.part),
-                       p.path);
+      throw InputError(
+          "shard.part",
+          "must be in [1, " + std::to_string(p.of) + "], got " + std::to_string(p.part), p.path);
     if (p.of != first.of)
       throw InputError("shard.of",
                        "is " + std::to_string(p.of) + " here but " + std::to_string(first.of) +
@@ -130,8 +131,7 @@ ClothMaterial merge_material_parts(const std::vector<std::string>& dirs, Materia
   for (const std::string& dir : dirs) parts.push_back(read_part_manifest(dir));
   check_parts_belong(parts);
   int max_rank = 0;
-  for (const PartManifest& p : parts)
-    max_rank = std::max(max_rank, p.doc.value("max_rank", 0));
+  for (const PartManifest& p : parts) max_rank = std::max(max_rank, p.doc.value("max_rank", 0));
 
   ClothMaterial whole;
   info.stats = {};
@@ -143,9 +143,10 @@ ClothMaterial merge_material_parts(const std::vector<std::string>& dirs, Materia
       whole = part;
       whole.max_rank = max_rank;
       if (whole.layout().table_bytes(max_rank) > memory_budget)
-        throw InputError("max_rank", "the merged table needs " +
-                                         std::to_string(whole.layout().table_bytes(max_rank) >> 20) +
-                                         " MiB, over the memory budget",
+        throw InputError("max_rank",
+                         "the merged table needs " +
+                             std::to_string(whole.layout().table_bytes(max_rank) >> 20) +
+                             " MiB, over the memory budget",
                          parts[i].path);
       whole.allocate();
       whole.shard = {};

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/material/cloth_material.h"
-#include "core/material/material_bake.h"
-#include "core/material/material_probe.h"
+#include "core/material_bake/material_bake.h"
+#include "core/material_bake/material_probe.h"
 
 namespace clothbake::io {
 
@@ -14,7 +14,7 @@ nlohmann::json material_estimate_json(const MaterialSettings& settings,
                                       const MaterialEstimate& estimate, int threads);
 
 nlohmann::json material_bake_report_json(const ClothMaterial& material,
-                                        const MaterialBakeStats& stats, double seconds,
-                                        int threads);
+                                         const MaterialBakeStats& stats, double seconds,
+                                         int threads);
 
 }  // namespace clothbake::io

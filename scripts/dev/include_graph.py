@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Draws the house of the material slice: its source files as boxes, one
-row per room (cli, io, core/material, core/march, the core rooms below),
+row per room (cli, io, core/material_bake, core/material, core/march,
+the core rooms below),
 and an arrow for each #include between them. Used for docs/architecture.md
 (before and after a restructuring: run it on two checkouts).
 
@@ -16,14 +17,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 # The rows, top to bottom: a file belongs to the first row whose prefix it has.
-ROWS = [("cli", ["baker/cli/cmd_material", "baker/cli/cmd_lookup_render"]),
+ROWS = [("cli", ["baker/cli/cmd_material", "baker/cli/cmd_lookup_render",
+                 "baker/cli/material_options", "baker/cli/setting_flags"]),
         ("io", ["baker/io/material", "baker/io/lookup_io", "baker/io/data_image",
                 "baker/io/folder_output", "baker/io/enum_names"]),
+        ("core/material_bake", ["baker/core/material_bake/"]),
         ("core/material", ["baker/core/material/"]),
         ("core/scene", ["baker/core/scene/cloth_scene"]),
         ("core/march", ["baker/core/march/"]),
         ("core (below)", ["baker/core/fiber/fiber_shader", "baker/core/util/vector_math",
-                          "baker/core/util/hex"])]
+                          "baker/core/util/hex", "baker/core/bake/direction_grid",
+                          "baker/core/geometry/direction_grid"])]
 INCLUDE = re.compile(r'^#include "([^"]+)"', re.M)
 
 

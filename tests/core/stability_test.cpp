@@ -24,10 +24,10 @@
 #include <gtest/gtest.h>
 
 #include "core/bake/baker.h"
-#include "core/bake/direction_grid.h"
 #include "core/bake/lookup_table.h"
 #include "core/fiber/fiber_model.h"
 #include "core/fiber/fiber_table.h"
+#include "core/geometry/direction_grid.h"
 #include "core/geometry/quad_patch.h"
 #include "core/render/renderer.h"
 #include "core/texture/volume_generator.h"

@@ -31,7 +31,7 @@ const ClothMaterial& small_material() {
     s.spp = 1;
     s.field_supersample = 1;
     s.max_error = 0.02f;
-    return bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32);
+    return bake_material(material_source(volume, shader, MaterialOptics{}), s, uint64_t(1) << 32);
   }();
   return m;
 }
@@ -55,8 +55,8 @@ ClothMaterial small_colour_free(ClothSpec spec, MaterialSettings s) {
   s.spp = 1;
   s.field_supersample = 1;
   s.parts = MaterialParts::SpecularWarpWeft;
-  ClothMaterial m =
-      bake_material(volume, shader, MaterialOptics{}, s, uint64_t(1) << 32, {}, nullptr, &free);
+  ClothMaterial m = bake_material(material_source(volume, shader, MaterialOptics{}, free), s,
+                                  uint64_t(1) << 32, {}, nullptr);
   m.set_cloth(free, palette_of(spec));
   return m;
 }
@@ -77,9 +77,13 @@ MaterialSettings addressed_settings() {
 }
 
 struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("clothbake_material_io_" + std::to_string(::getpid()) +
-                                               "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  TempDir() { fs::remove_all(path); fs::create_directories(path); }
+  fs::path path =
+      fs::temp_directory_path() / ("clothbake_material_io_" + std::to_string(::getpid()) + "_" +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  TempDir() {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
   ~TempDir() { fs::remove_all(path); }
 };
 
@@ -214,7 +218,8 @@ TEST(MaterialIo, AddressedPerCrossingRoundTrip) {
 // bytes it had before the aspect was kept, and reads back as 1.
 TEST(MaterialIo, AStretchReadsBackAndNoneIsNotWritten) {
   TempDir tmp;
-  const std::string plain = (tmp.path / "plain").string(), stretched = (tmp.path / "stretched").string();
+  const std::string plain = (tmp.path / "plain").string(),
+                    stretched = (tmp.path / "stretched").string();
   ClothMaterial m = small_material();
   ASSERT_EQ(m.optics.aspect, 1.0f);
   write_material(plain, m, small_info());
@@ -241,7 +246,8 @@ TEST(MaterialIo, PhaseBinsReadBackAndOneIsNotWritten) {
   s.phase_bins = 4;
   const ClothMaterial binned = small_colour_free(twill(), s);
   EXPECT_GT(binned.crossings.count(), plain.crossings.count());
-  const std::string plain_dir = (tmp.path / "plain").string(), binned_dir = (tmp.path / "binned").string();
+  const std::string plain_dir = (tmp.path / "plain").string(),
+                    binned_dir = (tmp.path / "binned").string();
   write_material(plain_dir, plain, small_info());
   write_material(binned_dir, binned, small_info());
   auto crossings = [](const std::string& dir) {
@@ -262,8 +268,10 @@ TEST(MaterialIo, SameBytesTwice) {
   write_material((tmp.path / "a").string(), small_material(), small_info());
   write_material((tmp.path / "b").string(), small_material(), small_info());
   for (const auto& e : fs::directory_iterator(tmp.path / "a")) {
-    std::ifstream fa(e.path(), std::ios::binary), fb(tmp.path / "b" / e.path().filename(), std::ios::binary);
-    const std::string a((std::istreambuf_iterator<char>(fa)), {}), b((std::istreambuf_iterator<char>(fb)), {});
+    std::ifstream fa(e.path(), std::ios::binary),
+        fb(tmp.path / "b" / e.path().filename(), std::ios::binary);
+    const std::string a((std::istreambuf_iterator<char>(fa)), {}),
+        b((std::istreambuf_iterator<char>(fb)), {});
     EXPECT_EQ(a, b) << e.path().filename();
   }
 }
@@ -324,10 +332,16 @@ TEST(MaterialIo, DamagedFoldersNameTheFileAndField) {
   {  // a manifest whose table would not fit in memory: refused before allocating
     const fs::path d = copy("huge");
     edit_manifest(d, [](nlohmann::json& j) {
-      j["texels"] = 1024; j["levels"] = 11; j["directions"] = 32; j["light_directions"] = 32;
-      j["max_rank"] = 2048; j["ranks"] = std::vector<int>(2048, 0); j["errors"] = std::vector<float>(2048, 0.0f);
+      j["texels"] = 1024;
+      j["levels"] = 11;
+      j["directions"] = 32;
+      j["light_directions"] = 32;
+      j["max_rank"] = 2048;
+      j["ranks"] = std::vector<int>(2048, 0);
+      j["errors"] = std::vector<float>(2048, 0.0f);
     });
-    EXPECT_NE(error_of(d.string()).find("max_rank: the table needs"), std::string::npos) << error_of(d.string());
+    EXPECT_NE(error_of(d.string()).find("max_rank: the table needs"), std::string::npos)
+        << error_of(d.string());
   }
   {  // another format
     const fs::path d = copy("format");
@@ -338,8 +352,13 @@ TEST(MaterialIo, DamagedFoldersNameTheFileAndField) {
   }
   {  // images of the wrong size for the manifest
     const fs::path d = copy("size");
-    edit_manifest(d, [](nlohmann::json& j) { j["directions"] = 4; j["ranks"] = std::vector<int>(32, 0); j["errors"] = std::vector<float>(32, 0.0f); });
-    EXPECT_NE(error_of(d.string()).find("level_0.exr: is"), std::string::npos) << error_of(d.string());
+    edit_manifest(d, [](nlohmann::json& j) {
+      j["directions"] = 4;
+      j["ranks"] = std::vector<int>(32, 0);
+      j["errors"] = std::vector<float>(32, 0.0f);
+    });
+    EXPECT_NE(error_of(d.string()).find("level_0.exr: is"), std::string::npos)
+        << error_of(d.string());
   }
 }
 

@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 
 namespace clothbake {
 

@@ -18,7 +18,7 @@
 #include <Imath/ImathVec.h>
 #include <Imath/half.h>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 
 namespace clothbake {
 

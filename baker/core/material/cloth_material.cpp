@@ -31,7 +31,8 @@ void ClothMaterial::allocate() {
   for (int m = 0; m < n_levels; ++m) {
     const size_t texels = layout().level_texels(m);
     coefficients[m].assign(views * texels * size_t(max_rank), V3f(0.0f));
-    if (colour_parts()) coefficients_next[m].assign(views * texels * size_t(max_rank), Imath::V2f(0.0f));
+    if (colour_parts())
+      coefficients_next[m].assign(views * texels * size_t(max_rank), Imath::V2f(0.0f));
     alpha[m].assign(views * texels, 0.0f);
   }
   light_factors.assign(views * size_t(light_count()) * size_t(max_rank), 0.0f);
@@ -76,7 +77,8 @@ void ClothMaterial::set_cloth(const ClothSpec& spec, const YarnPalette& p) {
   const WeaveDraft draft = draft_of(spec);
   warp_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, true));
   weft_threads = std::make_shared<const ThreadLayout>(thread_layout(spec, draft, false));
-  crossings = addressed() ? crossing_classes(spec, settings.stencil, settings.phase_bins) : CrossingClasses{};
+  crossings = addressed() ? crossing_classes(spec, settings.stencil, settings.phase_bins)
+                          : CrossingClasses{};
 }
 
 YarnColours ClothMaterial::colours_of(const YarnPalette& p) const {
@@ -216,11 +218,86 @@ ClothMaterial::Taps ClothMaterial::crossing_taps(float x_mm, float y_mm, int m, 
   for (int b = 0; b < 2; ++b)
     for (int a = 0; a < 2; ++a) {
       const int block = crossings.at(t.column[a] % ends, t.row[b] % picks);
-      t.texel[b * 2 + a] = size_t(v) * per_view + (size_t(block) * side + size_t(ly[b])) * side + size_t(lx[a]);
+      t.texel[b * 2 + a] =
+          size_t(v) * per_view + (size_t(block) * side + size_t(ly[b])) * side + size_t(lx[a]);
     }
   t.w[0] = (1 - fx) * (1 - fy), t.w[1] = fx * (1 - fy), t.w[2] = (1 - fx) * fy, t.w[3] = fx * fy;
   return t;
 }
+
+namespace {
+/// The light nodes of `lights` (each light's nodes and weights) folded into
+/// one RGB weight per component of view node `v`, weights[k], k < rank[v].
+void fold_lights(const ClothMaterial& mat, int v, std::span<const ClothMaterial::LightNodes> nodes,
+                 V3f* weights) {
+  const size_t r = size_t(mat.max_rank);
+  const size_t n_nodes = size_t(mat.light_count());
+  const int rk = mat.rank[v];
+  std::fill(weights, weights + rk, V3f(0.0f));
+  for (const ClothMaterial::LightNodes& ln : nodes) {
+    // The light's nodes folded into one scalar per component first (a
+    // contiguous loop over k), then its RGB irradiance applied once.
+    float folded[k_max_components];
+    std::fill(folded, folded + rk, 0.0f);
+    for (int n = 0; n < ln.count; ++n) {
+      if (ln.w[n] == 0.0f) continue;
+      const float* f = mat.light_factors.data() + (size_t(v) * n_nodes + ln.node[n]) * r;
+      const float w = ln.w[n];
+      for (int k = 0; k < rk; ++k) folded[k] += w * f[k];
+    }
+    for (int k = 0; k < rk; ++k) weights[k] += ln.irradiance * folded[k];
+  }
+}
+
+/// What a colour-free lookup of view node v reads its yarn colours from: the
+/// colours, and the side its ray runs toward across the threads (its
+/// neighbours' colours are those of the owner + 1 or - 1).
+struct ViewColours {
+  const YarnColours* yarn = nullptr;
+  V3f ray{0.0f};
+  const std::vector<std::vector<V3f>>* warp_next = nullptr;
+  const std::vector<std::vector<V3f>>* weft_next = nullptr;
+};
+
+/// Tap t of `taps` at level m of view node v (rank rk) under the folded
+/// light `weights`: RGB, or for colour-free parts each part's light times
+/// its colour, S + W * warp(x) + F * weft(y) and the next threads' likewise.
+V3f tap_radiance(const ClothMaterial& mat, const V3f* weights, int rk, int m,
+                 const ClothMaterial::Taps& taps, int t, const ViewColours& vc) {
+  const size_t r = size_t(mat.max_rank);
+  const V3f* coeff = mat.coefficients[m].data() + taps.texel[t] * r;
+  V3f sum(0.0f);
+  if (!vc.yarn) {
+    for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
+    return sum;
+  }
+  const Imath::V2f* next = mat.coefficients_next[m].data() + taps.texel[t] * r;
+  V3f s(0.0f), wp(0.0f), fp(0.0f), wn(0.0f), fn(0.0f);
+  for (int k = 0; k < rk; ++k) {
+    s += weights[k] * coeff[k].x;
+    wp += weights[k] * coeff[k].y;
+    fp += weights[k] * coeff[k].z;
+    wn += weights[k] * next[k].x;
+    fn += weights[k] * next[k].y;
+  }
+  const int col = taps.column[t & 1], row = taps.row[t >> 1];
+  const YarnColours& yarn = *vc.yarn;
+  if (mat.addressed()) {
+    // A block's texel lies in one crossing: its end's and pick's
+    // colours, and those of the threads its view ray runs toward.
+    const std::vector<V3f>& wc = yarn.warp.threads;
+    const std::vector<V3f>& fc = yarn.weft.threads;
+    const int nw = int(wc.size()), nf = int(fc.size());
+    const int wnext = vc.ray.x >= 0.0f ? 1 : -1, fnext = vc.ray.y >= 0.0f ? 1 : -1;
+    return s + wp * wc[size_t(col)] + fp * fc[size_t(row)] +
+           wn * wc[size_t((col + wnext + nw) % nw)] + fn * fc[size_t((row + fnext + nf) % nf)];
+  }
+  return s + wp * yarn.warp.levels[size_t(m)][size_t(col)] +
+         fp * yarn.weft.levels[size_t(m)][size_t(row)] +
+         wn * (*vc.warp_next)[size_t(m)][size_t(col)] +
+         fn * (*vc.weft_next)[size_t(m)][size_t(row)];
+}
+}  // namespace
 
 // The lookup's three interpolations: light nodes folded into per-component
 // weights first (light_nodes), then levels, texels and view nodes.
@@ -235,10 +312,9 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
   const int m0 = std::min(int(level), n_levels - 1), m1 = std::min(m0 + 1, n_levels - 1);
   const float fm = level - float(m0);
   const DirectionGrid::Footprint vf = view_grid.locate(to_eye);
-  const int views[4] = {view_grid.node_index(vf.side, vf.i0, vf.j0),
-                        view_grid.node_index(vf.side, vf.i1, vf.j0),
-                        view_grid.node_index(vf.side, vf.i0, vf.j1),
-                        view_grid.node_index(vf.side, vf.i1, vf.j1)};
+  const int views[4] = {
+      view_grid.node_index(vf.side, vf.i0, vf.j0), view_grid.node_index(vf.side, vf.i1, vf.j0),
+      view_grid.node_index(vf.side, vf.i0, vf.j1), view_grid.node_index(vf.side, vf.i1, vf.j1)};
   const float wv[4] = {(1 - vf.fx) * (1 - vf.fy), vf.fx * (1 - vf.fy), (1 - vf.fx) * vf.fy,
                        vf.fx * vf.fy};
   // Light nodes: each light's nodes and weights, shared by the views.
@@ -249,92 +325,44 @@ MarchResult ClothMaterial::shade(float x_mm, float y_mm, float footprint_texels,
     if (!(light.irradiance.x > 0 || light.irradiance.y > 0 || light.irradiance.z > 0)) continue;
     nodes[n_lights++] = light_nodes(light);
   }
-  const size_t r = size_t(max_rank);
-  const size_t n_nodes = size_t(light_count());
   V3f weights[k_max_components];  // per component: the lights folded in
   V3f radiance(0.0f);
   float alpha_sum = 0.0f;
   for (int c = 0; c < 4; ++c) {
     if (wv[c] == 0.0f) continue;
     const int v = views[c];
-    const int rk = rank[v];
     // A material with no parallax depth skips the node's direction (a
     // decode and a normalise per view node per lookup).
-    const Imath::V2f shift =
-        parallax_depth_mm == 0.0f
-            ? Imath::V2f(0.0f)
-            : parallax_shift_mm(to_eye, view_grid.node_direction(v), parallax_depth_mm, optics.depth_scale);
-    // The side the view node's ray runs toward across the threads: its
-    // neighbours' colours are those of the owner + 1 or - 1.
-    const V3f ray = parts ? -view_grid.bake_direction(v) : V3f(0.0f);
-    const std::vector<std::vector<V3f>>* warp_next =
-        parts ? (ray.x >= 0.0f ? &yarn->warp.plus : &yarn->warp.minus) : nullptr;
-    const std::vector<std::vector<V3f>>* weft_next =
-        parts ? (ray.y >= 0.0f ? &yarn->weft.plus : &yarn->weft.minus) : nullptr;
-    std::fill(weights, weights + rk, V3f(0.0f));
-    for (size_t l = 0; l < n_lights; ++l) {
-      // The light's nodes folded into one scalar per component first (a
-      // contiguous loop over k), then its RGB irradiance applied once.
-      const LightNodes& ln = nodes[l];
-      float folded[k_max_components];
-      std::fill(folded, folded + rk, 0.0f);
-      for (int n = 0; n < ln.count; ++n) {
-        if (ln.w[n] == 0.0f) continue;
-        const float* f = light_factors.data() + (size_t(v) * n_nodes + ln.node[n]) * r;
-        const float w = ln.w[n];
-        for (int k = 0; k < rk; ++k) folded[k] += w * f[k];
-      }
-      for (int k = 0; k < rk; ++k) weights[k] += ln.irradiance * folded[k];
+    const Imath::V2f shift = parallax_depth_mm == 0.0f
+                                 ? Imath::V2f(0.0f)
+                                 : parallax_shift_mm(to_eye, view_grid.node_direction(v),
+                                                     parallax_depth_mm, optics.depth_scale);
+    ViewColours vc;
+    if (parts) {
+      vc.yarn = yarn;
+      vc.ray = -view_grid.bake_direction(v);
+      vc.warp_next = vc.ray.x >= 0.0f ? &yarn->warp.plus : &yarn->warp.minus;
+      vc.weft_next = vc.ray.y >= 0.0f ? &yarn->weft.plus : &yarn->weft.minus;
     }
+    fold_lights(*this, v, std::span(nodes.data(), n_lights), weights);
     for (int mi = 0; mi < 2; ++mi) {
       const int m = mi == 0 ? m0 : m1;
       const float wm = mi == 0 ? 1.0f - fm : fm;
       if (wm == 0.0f) continue;
       const Taps taps = addressed() ? crossing_taps(x_mm + shift.x, y_mm + shift.y, m, v, yarn)
                                     : repeat_taps(x_mm + shift.x, y_mm + shift.y, m, v, yarn);
-      const size_t* texel = taps.texel;
-      const float* wt = taps.w;
       const float w = wv[c] * wm;
       for (int t = 0; t < 4; ++t) {
-        if (wt[t] == 0.0f) continue;
-        const V3f* coeff = coefficients[m].data() + texel[t] * r;
-        V3f sum(0.0f);
-        if (parts) {
-          // Each part's lights, then its colour: S + W * warp(x) + F * weft(y).
-          const Imath::V2f* next = coefficients_next[m].data() + texel[t] * r;
-          V3f s(0.0f), wp(0.0f), fp(0.0f), wn(0.0f), fn(0.0f);
-          for (int k = 0; k < rk; ++k) {
-            s += weights[k] * coeff[k].x;
-            wp += weights[k] * coeff[k].y;
-            fp += weights[k] * coeff[k].z;
-            wn += weights[k] * next[k].x;
-            fn += weights[k] * next[k].y;
-          }
-          const int col = taps.column[t & 1], row = taps.row[t >> 1];
-          if (addressed()) {
-            // A block's texel lies in one crossing: its end's and pick's
-            // colours, and those of the threads its view ray runs toward.
-            const std::vector<V3f>& wc = yarn->warp.threads;
-            const std::vector<V3f>& fc = yarn->weft.threads;
-            const int nw = int(wc.size()), nf = int(fc.size());
-            const int wnext = ray.x >= 0.0f ? 1 : -1, fnext = ray.y >= 0.0f ? 1 : -1;
-            sum = s + wp * wc[size_t(col)] + fp * fc[size_t(row)] +
-                  wn * wc[size_t((col + wnext + nw) % nw)] + fn * fc[size_t((row + fnext + nf) % nf)];
-          } else {
-            sum = s + wp * yarn->warp.levels[size_t(m)][size_t(col)] +
-                  fp * yarn->weft.levels[size_t(m)][size_t(row)] +
-                  wn * (*warp_next)[size_t(m)][size_t(col)] + fn * (*weft_next)[size_t(m)][size_t(row)];
-          }
-        } else {
-          for (int k = 0; k < rk; ++k) sum += coeff[k] * weights[k];
-        }
-        radiance += sum * (w * wt[t]);
-        alpha_sum += alpha[m][texel[t]] * (w * wt[t]);
+        if (taps.w[t] == 0.0f) continue;
+        const V3f sum = tap_radiance(*this, weights, rank[v], m, taps, t, vc);
+        radiance += sum * (w * taps.w[t]);
+        alpha_sum += alpha[m][taps.texel[t]] * (w * taps.w[t]);
       }
     }
   }
   // Catmull-Rom weights can be negative: no negative light.
-  out.radiance = V3f(std::max(radiance.x, 0.0f), std::max(radiance.y, 0.0f), std::max(radiance.z, 0.0f));
+  out.radiance =
+      V3f(std::max(radiance.x, 0.0f), std::max(radiance.y, 0.0f), std::max(radiance.z, 0.0f));
   out.transmittance = std::clamp(1.0f - alpha_sum, 0.0f, 1.0f);
   return out;
 }

@@ -25,7 +25,7 @@
 
 #include <Imath/ImathVec.h>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 #include "core/march/volume_march.h"
 #include "core/material/material_layout.h"
 #include "core/material/material_settings.h"

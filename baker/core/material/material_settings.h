@@ -9,7 +9,7 @@
 
 #include <Imath/ImathVec.h>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 #include "core/fiber/fiber_model.h"
 #include "core/march/march_settings.h"
 #include "core/weave/crossing_neighbourhoods.h"

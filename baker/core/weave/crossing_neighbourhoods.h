@@ -1,5 +1,5 @@
 #pragma once
-/// How many different places a weave repeat holds (issue 24; docs/material.md,
+/// How many different places a weave repeat holds (docs/material.md,
 /// "The weave's variety"): the distinct neighbourhoods of its crossings. A
 /// material addressed per crossing would store one block of texels per
 /// distinct neighbourhood instead of the whole repeat, so these counts say what
@@ -26,10 +26,10 @@
 namespace clothbake {
 
 struct NeighbourhoodCounts {
-  int ends = 0;                  ///< warp ends of the colour-free repeat
-  int picks = 0;                 ///< weft picks of it
-  int plus1 = 0;                 ///< distinct plus-shaped stencils of radius 1
-  std::array<int, 3> square{};   ///< distinct square windows of radius 1, 2, 3
+  int ends = 0;                 ///< warp ends of the colour-free repeat
+  int picks = 0;                ///< weft picks of it
+  int plus1 = 0;                ///< distinct plus-shaped stencils of radius 1
+  std::array<int, 3> square{};  ///< distinct square windows of radius 1, 2, 3
   long long crossings() const { return (long long)ends * picks; }
 };
 

@@ -76,7 +76,7 @@ TEST(HemiOct, EncodeDecodeRoundTripAndNodesCoverTheHorizon) {
 // ~1%); between nodes the error is the bilinear interpolation of a smooth
 // function of direction, bounded here by 3% at K = 9 on the polar map (the
 // slab's radiance depends on elevation only, which polar rows follow
-// exactly; tests/core/bake/direction_grid_test.cpp measures both maps).
+// exactly; tests/core/geometry/direction_grid_test.cpp measures both maps).
 TEST(PolarMap, NodesAndFootprintsWrapInAzimuth) {
   DirectionGrid g;
   g.k = 8;

@@ -1,4 +1,5 @@
 #include "core/material/view_parallax.h"
+#include "core/material_bake/parallax_fit.h"
 
 #include <cmath>
 #include <numbers>

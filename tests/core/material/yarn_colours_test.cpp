@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/material/material_bake.h"
 #include "core/material/material_shader.h"
+#include "core/material_bake/material_bake.h"
 #include "core/scene/cloth_scene.h"
 #include "core/texture/volume_generator.h"
 #include "core/util/error.h"
@@ -22,9 +22,9 @@ constexpr uint64_t k_budget = uint64_t(1) << 32;
 const V3f k_red(1, 0, 0), k_green(0, 1, 0), k_blue(0, 0, 1);
 
 void expect_near(const V3f& a, const V3f& b, const char* what, int i) {
-  EXPECT_NEAR((a - b).length(), 0.0f, 1e-6f) << what << " " << i << ": (" << a.x << ", " << a.y
-                                             << ", " << a.z << ") against (" << b.x << ", " << b.y
-                                             << ", " << b.z << ")";
+  EXPECT_NEAR((a - b).length(), 0.0f, 1e-6f)
+      << what << " " << i << ": (" << a.x << ", " << a.y << ", " << a.z << ") against (" << b.x
+      << ", " << b.y << ", " << b.z << ")";
 }
 
 // Two threads at 0.25 and 0.75 of a 1 mm repeat: thread 0 owns [0, 0.5),
@@ -84,7 +84,7 @@ TEST(ColourStrip, ASequenceLongerThanTheRepeatSpansSeveral) {
 // cell size; two cloths that differ only in colour agree, any other
 // difference is named.
 TEST(ColourFree, KeepsTheWeaveAndNamesTheFirstDifference) {
-  ClothSpec a;  // plain, 64 cells per 2-thread repeat
+  ClothSpec a;                               // plain, 64 cells per 2-thread repeat
   a.warp.colors = {k_red, k_green, k_blue};  // 6-end repeat
   EXPECT_EQ(resolved_resolution(a).cells_x, 3 * 64);
   const ClothSpec free = colour_free(a);
@@ -216,11 +216,11 @@ TEST(ColourFree, MaterialInColoursAEqualsABakeInColoursA) {
   const VolumeTexture coloured = generate_volume(spec, k_budget);
   const ClothSpec free_spec = colour_free(spec);
   const VolumeTexture free = generate_volume(free_spec, k_budget);
-  const ClothMaterial rgb =
-      bake_material(coloured, shader, MaterialOptics{}, tiny_settings(MaterialParts::Rgb), k_budget);
+  const ClothMaterial rgb = bake_material(material_source(coloured, shader, MaterialOptics{}),
+                                          tiny_settings(MaterialParts::Rgb), k_budget);
   ClothMaterial parts =
-      bake_material(free, shader, MaterialOptics{}, tiny_settings(MaterialParts::SpecularWarpWeft),
-                    k_budget, {}, nullptr, &free_spec);
+      bake_material(material_source(free, shader, MaterialOptics{}, free_spec),
+                    tiny_settings(MaterialParts::SpecularWarpWeft), k_budget, {}, nullptr);
   parts.set_cloth(free_spec, palette_of(spec));
   ASSERT_EQ(parts.repeat_mm, rgb.repeat_mm);
   double worst = 0.0, mean = 0.0;
@@ -228,7 +228,8 @@ TEST(ColourFree, MaterialInColoursAEqualsABakeInColoursA) {
   for (int i = 0; i < 40; ++i) {
     const float x = 0.137f * i, y = 0.071f * i + 0.3f;
     const float theta = 0.1f + 1.3f * float(i % 5) / 5.0f, phi = 0.7f * i;
-    const V3f to_eye(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    const V3f to_eye(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                     std::cos(theta));
     const ClothMaterial::Light light{V3f(0.3f, -0.4f, 0.866f).normalized(), V3f(1.0f, 0.8f, 0.6f)};
     for (float footprint : {1.0f, 3.0f}) {
       const V3f a = rgb.shade(x, y, footprint, to_eye, std::span(&light, 1)).radiance;

@@ -18,7 +18,7 @@
 #include "core/fiber/fiber_shader.h"
 #include "core/march/march_settings.h"
 #include "core/march/sample_march.h"
-#include "core/material/light_fields.h"
+#include "core/material_bake/light_fields.h"
 #include "core/texture/volume_texture.h"
 #include "core/weave/thread_layout.h"
 
@@ -84,16 +84,16 @@ struct NodeMarchInput : SampleMarchInput {
 /// of one view node cross the same cells again and again: the responses are
 /// kept per cell, tagged with `view_tag`, and reused while the tag is the same.
 struct NodeMarchScratch {
-  std::vector<Imath::V3f> reflect;   ///< per light node: the current cell's response
-  std::vector<float> transmittance;  ///< per light node: at the current sample
-  std::vector<float> response;       ///< [cell * lights + l] * 2: diffuse, specular factors
-  std::vector<uint32_t> tag;         ///< per cell: the view_tag its responses are for (0: none)
-  uint32_t view_tag = 0;             ///< set by the caller, unique per view node, > 0
+  std::vector<Imath::V3f> reflect;       ///< per light node: the current cell's response
+  std::vector<float> transmittance;      ///< per light node: at the current sample
+  std::vector<float> response;           ///< [cell * lights + l] * 2: diffuse, specular factors
+  std::vector<uint32_t> tag;             ///< per cell: the view_tag its responses are for (0: none)
+  uint32_t view_tag = 0;                 ///< set by the caller, unique per view node, > 0
   std::vector<float> diffuse, specular;  ///< per light node, from the FiberLightTable
 };
 
 struct NodeMarchCounts {
-  uint64_t samples = 0;           ///< view samples shaded
+  uint64_t samples = 0;            ///< view samples shaded
   uint64_t fiber_evaluations = 0;  ///< fibre-model evaluations (cells x light nodes)
 };
 

@@ -1,4 +1,4 @@
-#include "core/material/light_fields.h"
+#include "core/material_bake/light_fields.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +31,7 @@ VolumeTexture refine(const VolumeTexture& volume, int s) {
 }  // namespace
 
 LightFieldMethod LightFieldSet::resolve(LightFieldMethod method, const VolumeTexture& volume,
-                                       float sigma, int supersample) {
+                                        float sigma, int supersample) {
   if (method != LightFieldMethod::Auto) return method;
   float rho_max = 0.0f;
   for (const Cell& c : volume.cells()) rho_max = std::max(rho_max, c.density);
@@ -208,10 +208,14 @@ void LightFieldSet::depths_interpolated(const V3f& p, float* depth) const {
   const float* c[8] = {corner(xa, ya, z0), corner(xb, ya, z0), corner(xa, yb, z0),
                        corner(xb, yb, z0), corner(xa, ya, z1), corner(xb, ya, z1),
                        corner(xa, yb, z1), corner(xb, yb, z1)};
-  const float w[8] = {(1 - fx) * (1 - fy) * (1 - fz), fx * (1 - fy) * (1 - fz),
-                      (1 - fx) * fy * (1 - fz),       fx * fy * (1 - fz),
-                      (1 - fx) * (1 - fy) * fz,       fx * (1 - fy) * fz,
-                      (1 - fx) * fy * fz,             fx * fy * fz};
+  const float w[8] = {(1 - fx) * (1 - fy) * (1 - fz),
+                      fx * (1 - fy) * (1 - fz),
+                      (1 - fx) * fy * (1 - fz),
+                      fx * fy * (1 - fz),
+                      (1 - fx) * (1 - fy) * fz,
+                      fx * (1 - fy) * fz,
+                      (1 - fx) * fy * fz,
+                      fx * fy * fz};
   for (size_t l = 0; l < L; ++l) depth[l] = 0.0f;
   for (int n = 0; n < 8; ++n) {
     if (w[n] == 0.0f) continue;
@@ -253,8 +257,7 @@ void LightFieldSet::depths_layer_march(const V3f& p, float* depth) const {
     // interpolated there puts the shadow's exp(-depth) on the lit side
     // (darker on the mean); transmittance interpolated keeps the edge's mean
     // light. Equal corners (a homogeneous slab) give their depth exactly.
-    const float d00 = row_a[xa * L], d10 = row_a[xb * L], d01 = row_b[xa * L],
-                d11 = row_b[xb * L];
+    const float d00 = row_a[xa * L], d10 = row_a[xb * L], d01 = row_b[xa * L], d11 = row_b[xb * L];
     float face;
     if (d00 == d10 && d00 == d01 && d00 == d11) {
       face = d00;

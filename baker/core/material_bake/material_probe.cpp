@@ -1,4 +1,4 @@
-#include "core/material/material_probe.h"
+#include "core/material_bake/material_probe.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,12 +6,13 @@
 #include <span>
 #include <vector>
 
-#include <Eigen/Dense>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Dense>
 
-#include "core/material/material_bake.h"
-#include "core/material/material_shard.h"
+#include "core/material_bake/material_bake.h"
+#include "core/material_bake/material_sample.h"
+#include "core/material_bake/material_shard.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
 
@@ -137,9 +138,9 @@ void probe_marches(const ClothMaterial& material, const VolumeTexture& volume,
       const int k = int(r % uint64_t(s.spp)), t = int(r / uint64_t(s.spp));
       for (int pass = 0; pass < 2; ++pass) {
         const auto tm = Clock::now();
-        NodeMarchInput in = material_sample(material, volume, shader,
-                                            pass == 0 ? lights.fields_1 : lights.fields_p,
-                                            pass == 0 ? lights_1 : lights_p, view, t % R, t / R, k);
+        NodeMarchInput in =
+            material_sample(material, volume, shader, pass == 0 ? lights.fields_1 : lights.fields_p,
+                            pass == 0 ? lights_1 : lights_p, view, t % R, t / R, k);
         if (tabulate) in.fiber_table = pass == 0 ? &local.table_1 : &local.table_p;
         std::fill(local.radiance.begin(), local.radiance.end(), V3f(0.0f));
         if (in.length_mm > 0.0f)
@@ -186,7 +187,8 @@ double probe_factorise(const MaterialLayout& layout, int threads) {
   const double product_seconds = seconds_since(tu);
   return ((gram_seconds + product_seconds) * row_scale + eigen_seconds +
           (u.size() > 0 ? 0.0 : 1.0)) *  // keeps u from being optimised away
-         double(layout.view_count()) / double(std::max(threads, 1));
+         double(layout.view_count()) /
+         double(std::max(threads, 1));
 }
 
 /// Step 4: the mips (one thread in the bake): timed on 8 views of up to
@@ -210,18 +212,17 @@ double probe_mips(const VolumeTexture& volume, const MaterialOptics& optics,
 }
 }  // namespace
 
-MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
-                                const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads, const ClothSpec* colour_free_cloth,
-                                const MaterialShard& shard) {
+MaterialEstimate probe_material(const MaterialSource& source, const MaterialSettings& settings,
+                                int threads, const MaterialShard& shard) {
   MaterialEstimate e;
   const auto probe_start = Clock::now();
-  ClothMaterial material = unbaked_material(volume, optics, settings);
-  if (material.colour_parts()) {
-    if (!colour_free_cloth)
-      throw InputError("parts", "colour-free parts need the colour-free cloth the volume is of");
-    material.set_cloth(*colour_free_cloth, palette_of(*colour_free_cloth));
-  }
+  const VolumeTexture& volume = *source.volume;
+  const FiberShader& shader = *source.shader;
+  const MaterialOptics& optics = source.optics;
+  if (settings.parts == MaterialParts::SpecularWarpWeft &&
+      source.parts != MaterialParts::SpecularWarpWeft)
+    throw InputError("parts", "colour-free parts need the colour-free cloth the volume is of");
+  ClothMaterial material = unbaked_material(source, settings);
   const MaterialLayout layout = material.layout();
   e.view_nodes = layout.view_count();
   e.light_nodes = layout.light_count();

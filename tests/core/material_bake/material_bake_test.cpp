@@ -1,4 +1,6 @@
-#include "core/material/material_bake.h"
+#include "core/material_bake/material_bake.h"
+#include "core/material_bake/bake_rules.h"
+#include "core/material_bake/material_sample.h"
 
 #include <cmath>
 #include <cstring>
@@ -9,8 +11,8 @@
 
 #include "core/march/light_transmittance.h"
 #include "core/march/volume_march.h"
-#include "core/material/light_fields.h"
 #include "core/material/material_shader.h"
+#include "core/material_bake/light_fields.h"
 #include "core/scene/cloth_scene.h"
 #include "core/texture/volume_generator.h"
 #include "core/util/error.h"
@@ -38,7 +40,8 @@ ClothSpec paper_grid_weave() {
 }
 
 struct Fixture {
-  explicit Fixture(const ClothSpec& spec = small_weave()) : volume(generate_volume(spec, k_budget)) {}
+  explicit Fixture(const ClothSpec& spec = small_weave())
+      : volume(generate_volume(spec, k_budget)) {}
   VolumeTexture volume;
   FiberShader shader{FiberModelKind::Table, 8.0f, 24.0f, 32, 1};
 };
@@ -116,7 +119,8 @@ TEST(LightFields, LayerMarchReadsOpaqueCellsThatInterpolationDarkens) {
             LightFieldMethod::Interpolated);
   EXPECT_EQ(LightFieldSet::resolve(LightFieldMethod::Auto, f.volume, sigma, 2),
             LightFieldMethod::LayerMarch);
-  const LightFieldMethod methods[2] = {LightFieldMethod::Interpolated, LightFieldMethod::LayerMarch};
+  const LightFieldMethod methods[2] = {LightFieldMethod::Interpolated,
+                                       LightFieldMethod::LayerMarch};
   const LightFieldSet sets[2] = {LightFieldSet::build(f.volume, dirs, sigma, 2, methods[0]),
                                  LightFieldSet::build(f.volume, dirs, sigma, 2, methods[1])};
   const V3f size = f.volume.size_mm(), cell = f.volume.cell_size_mm();
@@ -125,7 +129,8 @@ TEST(LightFields, LayerMarchReadsOpaqueCellsThatInterpolationDarkens) {
   // [0.05, 0.95], the yarns' lit skin a view march sees.
   std::vector<double> abs_err[2], signed_err[2];
   std::vector<int> count(dirs.size(), 0);
-  for (int m = 0; m < 2; ++m) abs_err[m].assign(dirs.size(), 0.0), signed_err[m].assign(dirs.size(), 0.0);
+  for (int m = 0; m < 2; ++m)
+    abs_err[m].assign(dirs.size(), 0.0), signed_err[m].assign(dirs.size(), 0.0);
   for (int i = 0; i < 40000; ++i) {
     const V3f p(unit_float(hash_key(2, i, 0)) * size.x, unit_float(hash_key(2, i, 1)) * size.y,
                 unit_float(hash_key(2, i, 2)) * size.z);
@@ -146,14 +151,16 @@ TEST(LightFields, LayerMarchReadsOpaqueCellsThatInterpolationDarkens) {
   for (size_t d = 0; d < dirs.size(); ++d) {
     ASSERT_GT(count[d], 200) << "direction " << d;
     for (int m = 0; m < 2; ++m) abs_err[m][d] /= count[d], signed_err[m][d] /= count[d];
-    std::printf("direction %zu (%d points): interpolated mean dT %+.4f |dT| %.4f; layer march "
-                "%+.4f |dT| %.4f\n",
-                d, count[d], signed_err[0][d], abs_err[0][d], signed_err[1][d], abs_err[1][d]);
+    std::printf(
+        "direction %zu (%d points): interpolated mean dT %+.4f |dT| %.4f; layer march "
+        "%+.4f |dT| %.4f\n",
+        d, count[d], signed_err[0][d], abs_err[0][d], signed_err[1][d], abs_err[1][d]);
     EXPECT_LT(abs_err[1][d], 0.75 * abs_err[0][d]) << "direction " << d;
   }
   double abs_sum[2] = {0, 0}, signed_sum[2] = {0, 0};
   for (int m = 0; m < 2; ++m)
-    for (size_t d = 0; d < dirs.size(); ++d) abs_sum[m] += abs_err[m][d], signed_sum[m] += signed_err[m][d];
+    for (size_t d = 0; d < dirs.size(); ++d)
+      abs_sum[m] += abs_err[m][d], signed_sum[m] += signed_err[m][d];
   EXPECT_LT(abs_sum[1], 0.6 * abs_sum[0]);
   EXPECT_LT(signed_sum[0], -0.04) << "the interpolation's darkening, which this test is for";
   EXPECT_LT(std::fabs(signed_sum[1]), 0.75 * std::fabs(signed_sum[0]));
@@ -271,7 +278,7 @@ TEST(NodeMarch, EachLightAsMarchViewRayGivesIt) {
 }
 
 // A map that stretches the repeat 2.5 : 1 between its axes (a draft of
-// unlike ends and picks at one repeats_per_uv; a real overshot WIF's is 5.4):
+// unlike ends and picks at one repeats_per_uv; the overshot draft's is 5.4):
 // the fibres are shaded at the world's true angles, as the renderer shades
 // them. Measured 0.0222, same bound; shading in the material's frame
 // instead (the stretch ignored, as before the aspect was kept) 0.2501.
@@ -316,7 +323,7 @@ TEST(FiberLightTable, MatchesTheFibreModel) {
 }
 
 ClothMaterial bake_tiny(const Fixture& f, MaterialSettings s = tiny_settings()) {
-  return bake_material(f.volume, f.shader, MaterialOptics{}, s, k_budget);
+  return bake_material(material_source(f.volume, f.shader, MaterialOptics{}), s, k_budget);
 }
 
 // At full rank (max_error 0) the stored table at a node and texel is the
@@ -357,7 +364,8 @@ TEST(Material, LookupAtNodesEqualsTheMarch) {
         // 1-degree bake direction of a horizon node, which lies between rows).
         const int side = view / m.view_grid.nodes_per_side();
         const int rem = view % m.view_grid.nodes_per_side();
-        const V3f to_eye = m.view_grid.node_direction(side, rem % m.view_grid.k, rem / m.view_grid.k);
+        const V3f to_eye =
+            m.view_grid.node_direction(side, rem % m.view_grid.k, rem / m.view_grid.k);
         for (size_t l = 0; l < light_local.size(); ++l) {
           const V3f want = radiance[l] / float(s.spp);
           const V3f got = m.texel_radiance(0, view, int(l), x, y);
@@ -371,9 +379,11 @@ TEST(Material, LookupAtNodesEqualsTheMarch) {
               irradiance};
           if (std::fabs(light.to_light.z) < 0.02f) continue;
           const V3f size = m.repeat_mm;
-          const MarchResult r = m.shade((x + 0.5f) / s.texels * size.x, (y + 0.5f) / s.texels * size.y,
-                                        1.0f, to_eye, std::span(&light, 1));
-          EXPECT_NEAR((r.radiance - got * irradiance).length(), 0.0f, 1e-4f * (1.0f + got.length()));
+          const MarchResult r =
+              m.shade((x + 0.5f) / s.texels * size.x, (y + 0.5f) / s.texels * size.y, 1.0f, to_eye,
+                      std::span(&light, 1));
+          EXPECT_NEAR((r.radiance - got * irradiance).length(), 0.0f,
+                      1e-4f * (1.0f + got.length()));
         }
       }
   EXPECT_LT(worst, 1e-3) << "full-rank reconstruction against the march";
@@ -466,7 +476,7 @@ TEST(Material, HomogeneousSlabMatchesTheClosedForm) {
   s.directions = 5;
   s.light_directions = 5;
   s.max_error = 0.0f;
-  const ClothMaterial m = bake_material(volume, shader, optics, s, k_budget);
+  const ClothMaterial m = bake_material(material_source(volume, shader, optics), s, k_budget);
   const double tau0 = 10.0 * 0.5 * volume.size_mm().z;
   for (int view = 0; view < m.view_grid.nodes_per_side(); ++view) {
     const V3f v = m.view_grid.bake_direction(view);
@@ -475,8 +485,8 @@ TEST(Material, HomogeneousSlabMatchesTheClosedForm) {
       const V3f l = m.light_grid.bake_direction(n);
       if (l.z < 0.2f) continue;
       const double p = 1.0 / (4.0 * std::numbers::pi);
-      const double want = 0.8 * p * l.z / (l.z + v.z) *
-                          (1.0 - std::exp(-tau0 * (1.0 / v.z + 1.0 / l.z)));
+      const double want =
+          0.8 * p * l.z / (l.z + v.z) * (1.0 - std::exp(-tau0 * (1.0 / v.z + 1.0 / l.z)));
       const V3f got = m.texel_radiance(0, view, n, 1, 2);
       EXPECT_NEAR(got.x, want, 0.03 * want) << "view " << view << " light " << n;
     }
@@ -517,7 +527,7 @@ TEST(Material, TooLargeForTheMemoryBudgetIsRefused) {
   Fixture f;
   MaterialSettings s = tiny_settings();
   try {
-    bake_material(f.volume, f.shader, MaterialOptics{}, s, 1 << 16);
+    bake_material(material_source(f.volume, f.shader, MaterialOptics{}), s, 1 << 16);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "memory");
@@ -525,7 +535,7 @@ TEST(Material, TooLargeForTheMemoryBudgetIsRefused) {
   // Past the fields: the table itself grows past the budget.
   const uint64_t fields = LightFieldSet::bytes_for(f.volume, 18, 1);
   try {
-    bake_material(f.volume, f.shader, MaterialOptics{}, s, fields + 1000);
+    bake_material(material_source(f.volume, f.shader, MaterialOptics{}), s, fields + 1000);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "memory");
@@ -610,7 +620,7 @@ TEST_P(MaterialGrazingLight, ByElevation) {
   s.spp = 2;
   MaterialOptics optics;
   optics.light_roulette = 0.0f;
-  const ClothMaterial m = bake_material(f.volume, f.shader, optics, s, k_budget);
+  const ClothMaterial m = bake_material(material_source(f.volume, f.shader, optics), s, k_budget);
   const int view = m.view_grid.node_index(0, 2, 1);  // 45 degrees from the normal
   const V3f to_eye = m.view_grid.node_direction(0, 2, 1);
   const float elevations[] = {5.0f, 10.0f, 20.0f, 45.0f, 70.0f};
@@ -636,7 +646,8 @@ TEST_P(MaterialGrazingLight, ByElevation) {
     for (int y = 0; y < s.texels; ++y)
       for (int x = 0; x < s.texels; ++x)
         for (int k = 0; k < s.spp; ++k) {
-          NodeMarchInput in = material_sample(m, f.volume, f.shader, fields, light_local, view, x, y, k);
+          NodeMarchInput in =
+              material_sample(m, f.volume, f.shader, fields, light_local, view, x, y, k);
           in.fiber_table = &table;
           scratch.view_tag = 1;
           march_view_ray_all_lights(in, &truth, scratch, counts);
@@ -672,8 +683,10 @@ TEST(HemiOctHorizon, NodesLocateOntoThemselvesAndCrowdTheHorizon) {
     }
   // Along the diagonal from a horizon corner to the centre: the first step's
   // elevation change is smaller than the last one's.
-  const float e0 = std::asin(g.node_direction(0, 0, 3).z), e1 = std::asin(g.node_direction(0, 1, 3).z);
-  const float e2 = std::asin(g.node_direction(0, 2, 3).z), e3 = std::asin(g.node_direction(0, 3, 3).z);
+  const float e0 = std::asin(g.node_direction(0, 0, 3).z),
+              e1 = std::asin(g.node_direction(0, 1, 3).z);
+  const float e2 = std::asin(g.node_direction(0, 2, 3).z),
+              e3 = std::asin(g.node_direction(0, 3, 3).z);
   EXPECT_LT(e1 - e0, e3 - e2);
 }
 

@@ -1,9 +1,9 @@
-#include "core/material/node_march.h"
+#include "core/material_bake/node_march.h"
 
 #include <cmath>
 #include <numbers>
 
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 #include "core/util/random.h"
 #include "core/weave/cloth_colours.h"
 
@@ -22,7 +22,8 @@ void FiberLightTable::build(const FiberShader& shader, std::span<const V3f> to_l
   m_specular.assign(m_diffuse.size(), 0.0f);
   for (int j = 0; j < k; ++j)
     for (int i = 0; i < k; ++i) {
-      const V3f tangent = hemi_oct_decode(Imath::V2f(float(i) / float(k - 1), float(j) / float(k - 1)));
+      const V3f tangent =
+          hemi_oct_decode(Imath::V2f(float(i) / float(k - 1), float(j) / float(k - 1)));
       const size_t row = (size_t(j) * k + i) * m_lights;
       for (size_t l = 0; l < m_lights; ++l) {
         const FiberResponse f = shader.eval(tangent, to_light_local[l], to_eye_local, 0);
@@ -38,11 +39,12 @@ void FiberLightTable::eval(const V3f& tangent, float* diffuse, float* specular) 
   const float gx = uv.x * float(m_k - 1), gy = uv.y * float(m_k - 1);
   const int i0 = std::min(int(gx), m_k - 2), j0 = std::min(int(gy), m_k - 2);
   const float fx = gx - float(i0), fy = gy - float(j0);
-  const size_t rows[4] = {(size_t(j0) * m_k + i0) * m_lights, (size_t(j0) * m_k + i0 + 1) * m_lights,
-                          (size_t(j0 + 1) * m_k + i0) * m_lights,
-                          (size_t(j0 + 1) * m_k + i0 + 1) * m_lights};
+  const size_t rows[4] = {
+      (size_t(j0) * m_k + i0) * m_lights, (size_t(j0) * m_k + i0 + 1) * m_lights,
+      (size_t(j0 + 1) * m_k + i0) * m_lights, (size_t(j0 + 1) * m_k + i0 + 1) * m_lights};
   const float w[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-  const float* d[4] = {&m_diffuse[rows[0]], &m_diffuse[rows[1]], &m_diffuse[rows[2]], &m_diffuse[rows[3]]};
+  const float* d[4] = {&m_diffuse[rows[0]], &m_diffuse[rows[1]], &m_diffuse[rows[2]],
+                       &m_diffuse[rows[3]]};
   const float* s[4] = {&m_specular[rows[0]], &m_specular[rows[1]], &m_specular[rows[2]],
                        &m_specular[rows[3]]};
   for (size_t l = 0; l < m_lights; ++l) {
@@ -59,17 +61,16 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
                         V3f* reflect, NodeMarchScratch& scratch, NodeMarchCounts& counts,
                         const Cell* cells) {
   const size_t n_lights = in.to_light_local.size();
-  const V3f tangent_local =
-      V3f(cell.tangent.x * in.sqrt_aspect, cell.tangent.y / in.sqrt_aspect,
-          cell.tangent.z / in.depth_scale)
-          .normalized();
+  const V3f tangent_local = V3f(cell.tangent.x * in.sqrt_aspect, cell.tangent.y / in.sqrt_aspect,
+                                cell.tangent.z / in.depth_scale)
+                                .normalized();
   // RGB, or the colour-free parts: the specular response, then the diffuse
   // one in the slot of the cell's yarn family.
   const float diffuse_part = cell.diffuse.x * (1.0f / k_neutral_albedo);
-  const V3f diffuse_rgb =
-      !in.colour_parts ? cell.diffuse
-                       : V3f(0.0f, cell.family == YarnFamily::Warp ? diffuse_part : 0.0f,
-                             cell.family == YarnFamily::Weft ? diffuse_part : 0.0f);
+  const V3f diffuse_rgb = !in.colour_parts
+                              ? cell.diffuse
+                              : V3f(0.0f, cell.family == YarnFamily::Warp ? diffuse_part : 0.0f,
+                                    cell.family == YarnFamily::Weft ? diffuse_part : 0.0f);
   const V3f specular_rgb = !in.colour_parts ? V3f(cell.specular) : V3f(cell.specular, 0.0f, 0.0f);
   if (in.shading == ShadingMode::Isotropic) {
     for (size_t l = 0; l < n_lights; ++l) reflect[l] = in.isotropic_albedo * k_inv_4pi;
@@ -95,8 +96,8 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
       reflect[l] = diffuse_rgb * r[2 * l] + specular_rgb * r[2 * l + 1];
   } else {
     for (size_t l = 0; l < n_lights; ++l) {
-      const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l],
-                                              in.to_eye_local, hash_key(in.seed, uint64_t(shaded)));
+      const FiberResponse f = in.shader->eval(tangent_local, in.to_light_local[l], in.to_eye_local,
+                                              hash_key(in.seed, uint64_t(shaded)));
       reflect[l] = diffuse_rgb * f.diffuse + specular_rgb * f.specular;
     }
     counts.fiber_evaluations += n_lights;
@@ -134,10 +135,9 @@ float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMar
     if (in.colour_parts && radiance_next) {
       const size_t c = size_t(&cell - cells);
       const int i = int(c % size_t(nx)), j = int((c / size_t(nx)) % size_t(ny));
-      const bool own =
-          cell.family == YarnFamily::Warp
-              ? in.warp_threads->owner((float(i) + 0.5f) * cell_mm.x) == in.own_end
-              : in.weft_threads->owner((float(j) + 0.5f) * cell_mm.y) == in.own_pick;
+      const bool own = cell.family == YarnFamily::Warp
+                           ? in.warp_threads->owner((float(i) + 0.5f) * cell_mm.x) == in.own_end
+                           : in.weft_threads->owner((float(j) + 0.5f) * cell_mm.y) == in.own_pick;
       target = own ? radiance : radiance_next;
     }
   };

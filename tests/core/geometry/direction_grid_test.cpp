@@ -6,7 +6,7 @@
 // azimuthal feature near the horizon (a Phong lobe) better by the
 // hemi-octahedral map, whose horizon carries 4 (K - 1) nodes to the polar
 // map's K.
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "core/bake/direction_grid.h"
+#include "core/geometry/direction_grid.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,10 +7,8 @@
 
 #include <cstdint>
 
-#include "core/fiber/fiber_shader.h"
-#include "core/weave/cloth_spec.h"
 #include "core/material/material_settings.h"
-#include "core/texture/volume_texture.h"
+#include "core/material_bake/material_source.h"
 
 namespace clothbake {
 
@@ -65,9 +63,9 @@ inline constexpr int k_probe_rays_per_view = 128;
 /// those stay whole; the marches and the factorisation scale by the part's
 /// share of the view cost, the rays, the table and the mips by its share of
 /// the view nodes.
-MaterialEstimate probe_material(const VolumeTexture& volume, const FiberShader& shader,
-                                const MaterialOptics& optics, const MaterialSettings& settings,
-                                int threads, const ClothSpec* colour_free_cloth = nullptr,
-                                const MaterialShard& shard = {});
+/// `source` and `settings` as bake_material takes them (checked by the
+/// caller: check_material_bake).
+MaterialEstimate probe_material(const MaterialSource& source, const MaterialSettings& settings,
+                                int threads, const MaterialShard& shard = {});
 
 }  // namespace clothbake

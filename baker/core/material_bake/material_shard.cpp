@@ -1,4 +1,4 @@
-#include "core/material/material_shard.h"
+#include "core/material_bake/material_shard.h"
 
 #include <algorithm>
 #include <cmath>

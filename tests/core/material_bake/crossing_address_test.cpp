@@ -15,11 +15,11 @@
 
 #include <gtest/gtest.h>
 
-#include "core/material/material_bake.h"
-#include "core/material/light_fields.h"
+#include "core/material_bake/light_fields.h"
+#include "core/material_bake/material_bake.h"
 #include "core/texture/volume_generator.h"
-#include "core/util/random.h"
 #include "core/util/error.h"
+#include "core/util/random.h"
 #include "core/weave/cloth_colours.h"
 #include "core/weave/crossing_neighbourhoods.h"
 
@@ -73,7 +73,8 @@ struct Baked {
 Baked bake(const ClothSpec& spec, const MaterialSettings& s) {
   Baked b{spec, generate_volume(spec, k_budget), {}};
   const FiberShader shader(FiberModelKind::Table, 8.0f, 24.0f, 32, 1);
-  b.material = bake_material(b.volume, shader, MaterialOptics{}, s, k_budget, {}, nullptr, &b.spec);
+  b.material = bake_material(material_source(b.volume, shader, MaterialOptics{}, b.spec), s,
+                             k_budget, {}, nullptr);
   return b;
 }
 
@@ -116,8 +117,8 @@ TEST(AddressedMaterial, BlocksAreTheWholeBakeAtTheirRepresentatives) {
     for (int v = 0; v < a.view_count(); ++v)
       for (int y = 0; y < T; ++y)
         for (int x = 0; x < T; ++x) {
-          EXPECT_NEAR(a.texel_alpha(0, v, x, b * T + y), w.texel_alpha(0, v, c.end * T + x, c.pick * T + y),
-                      1e-5f);
+          EXPECT_NEAR(a.texel_alpha(0, v, x, b * T + y),
+                      w.texel_alpha(0, v, c.end * T + x, c.pick * T + y), 1e-5f);
           for (int l = 0; l < a.light_count(); ++l) {
             const V3f got = a.texel_radiance(0, v, l, x, b * T + y);
             const V3f want = w.texel_radiance(0, v, l, c.end * T + x, c.pick * T + y);
@@ -162,8 +163,10 @@ TEST(AddressedMaterial, MembersAverageTheirCrossings) {
             for (const CrossingClasses::Crossing& c : members)
               want += w.texel_radiance(0, v, l, c.end * T + x, c.pick * T + y) / 4.0f;
             const CrossingClasses::Crossing r = members.front();
-            spread += double((w.texel_radiance(0, v, l, r.end * T + x, r.pick * T + y) - want).length());
-            worst = std::max(worst, double((a.texel_radiance(0, v, l, x, b * T + y) - want).length()));
+            spread +=
+                double((w.texel_radiance(0, v, l, r.end * T + x, r.pick * T + y) - want).length());
+            worst =
+                std::max(worst, double((a.texel_radiance(0, v, l, x, b * T + y) - want).length()));
             mean += want.length();
             ++n;
           }
@@ -199,7 +202,8 @@ TEST(AddressedMaterial, ShadesAsTheWholeRepeatWithinTheBakesNoise) {
     const float x = (float(i % 20) + 0.37f) / 20.0f * size.x;
     const float y = (float(i / 20) + 0.61f) / 20.0f * size.y;
     const float theta = 0.15f + 1.0f * float(i % 7) / 7.0f, phi = 0.9f * float(i);
-    const V3f to_eye(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    const V3f to_eye(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                     std::cos(theta));
     const V3f w = whole.material.shade(x, y, 1.0f, to_eye, std::span(&light, 1)).radiance;
     const V3f w2 = whole2.material.shade(x, y, 1.0f, to_eye, std::span(&light, 1)).radiance;
     const V3f a = addressed.material.shade(x, y, 1.0f, to_eye, std::span(&light, 1)).radiance;
@@ -252,14 +256,15 @@ TEST(AddressedMaterial, NeedsColourFreePartsAndAWholeBake) {
   MaterialSettings s = settings(MaterialAddress::Crossings, 2);
   s.parts = MaterialParts::Rgb;
   try {
-    bake_material(volume, shader, MaterialOptics{}, s, k_budget);
+    bake_material(material_source(volume, shader, MaterialOptics{}), s, k_budget);
     FAIL() << "an RGB material addressed per crossing was baked";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "address");
   }
   s.parts = MaterialParts::SpecularWarpWeft;
   try {
-    bake_material(volume, shader, MaterialOptics{}, s, k_budget, {}, nullptr, &spec, MaterialShard{0, 2});
+    bake_material(material_source(volume, shader, MaterialOptics{}, spec), s, k_budget, {}, nullptr,
+                  MaterialShard{0, 2});
     FAIL() << "a part of an addressed bake was baked";
   } catch (const InputError& e) {
     EXPECT_EQ(e.field(), "shard");

@@ -4,21 +4,22 @@
 /// scene's object as the renderer prepares it, or from a cloth spec alone.
 
 #include <memory>
+#include <string>
 
 #include "core/fiber/fiber_shader.h"
 #include "core/material/material_settings.h"
+#include "core/material/yarn_colours.h"
 #include "core/scene/cloth_scene.h"
 #include "core/texture/volume_texture.h"
-#include "core/material/yarn_colours.h"
 #include "core/weave/cloth_spec.h"
-#include <string>
 
 namespace clothbake {
 
 struct MaterialSource {
   const VolumeTexture* volume = nullptr;
   std::shared_ptr<const VolumeTexture> owned_volume;  ///< a spec's; a scene's lives in the scene
-  std::unique_ptr<FiberShader> shader;
+  const FiberShader* shader = nullptr;
+  std::unique_ptr<FiberShader> owned_shader;  ///< a scene's or a spec's; null when lent
   MaterialOptics optics;
   /// What the table's channels hold: colour-free parts when asked for and
   /// possible (fibre shading, a cloth generated from a spec), else RGB.
@@ -28,6 +29,9 @@ struct MaterialSource {
   /// Colour-free parts: repeats of `cloth` in one repeat of the cloth's draft
   /// as written (colour_free_repeats, cloth_colours.h).
   Imath::V2f written_repeats{1.0f, 1.0f};
+  /// RGB parts: why (colour_parts_refusal, or that RGB was asked), for a
+  /// refusal that needs colour-free parts to say.
+  std::string rgb_reason;
 };
 
 /// Whether a bake asked for colour-free parts gets them, and if not why
@@ -47,5 +51,14 @@ MaterialSource material_source(const ClothScene& prepared, int object, MaterialP
 /// would build.
 MaterialSource material_source(const ClothSpec& spec, MaterialParts parts,
                                uint64_t memory_budget_bytes);
+
+/// A volume and shader the caller holds (and which must outlive the source),
+/// with RGB parts.
+MaterialSource material_source(const VolumeTexture& volume, const FiberShader& shader,
+                               const MaterialOptics& optics);
+/// The same for a volume generated from `colour_free_cloth` (colour_free,
+/// cloth_colours.h), with colour-free parts in that cloth's own colours.
+MaterialSource material_source(const VolumeTexture& volume, const FiberShader& shader,
+                               const MaterialOptics& optics, const ClothSpec& colour_free_cloth);
 
 }  // namespace clothbake
