@@ -10,7 +10,7 @@
 #   compare.png              reference | Blender | difference heatmap
 #   metrics.json             PSNR and RMSE of Blender and of lookup-render against
 #                            the reference, and the seconds of every step
-# Settings (why: docs/blender-addon.md "Figures"): the reference and both lookup
+# Settings (why: docs/design/blender-nodes.md "Figures"): the reference and both lookup
 # renders at 64 samples per pixel, the bake at 3 texels per pixel, K = 16, 2 spp.
 source "$(dirname "$0")/lib.sh"
 install_packages

@@ -5,7 +5,7 @@
 #   scripts/test.sh --sanitize [CTEST_ARGS...]  the same suite built with
 #       AddressSanitizer + UBSan (any report fails the test) in build-asan/;
 #       e.g. --sanitize -LE slow to leave out the slow scene and Blender tests
-#       (docs/hardening.md, "Sanitisers").
+#       (docs/design/hardening.md, "Sanitisers").
 if [[ ${1:-} == --sanitize ]]; then
   shift
   export CLOTHBAKE_SANITIZE=1

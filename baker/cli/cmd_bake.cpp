@@ -1,5 +1,5 @@
 // `clothbake bake SCENE.json -o BAKE_DIR`: view-dependent lookup EXRs per quad
-// texel (core/baker.h, docs/lookup-format.md), full or adaptive to the camera.
+// texel (core/baker.h, docs/formats/lookup.md), full or adaptive to the camera.
 // `--estimate` stops after step 1 with the plan and a timed estimate.
 
 #include <sys/statvfs.h>
@@ -266,7 +266,7 @@ void run_bake_command(const BakeArgs& args) {
 void register_bake_command(CLI::App& app, Action action) {
   auto args = std::make_shared<BakeArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "bake", "Bake view-dependent lookup EXRs per quad texel (docs/lookup-format.md)");
+      "bake", "Bake view-dependent lookup EXRs per quad texel (docs/formats/lookup.md)");
   cmd->add_option("scene", args->scene, "scene JSON")->required();
   cmd->add_option("-o,--out", args->out_dir, "output folder (replaced atomically)")->required();
   cmd->add_flag("--adaptive", args->settings.adaptive,
@@ -282,11 +282,11 @@ void register_bake_command(CLI::App& app, Action action) {
                   "adaptive: texels per projected pixel")
       ->check(CLI::Range(0.01, double(k_max_texels_per_pixel)));
   cmd->add_option("--direction-map", args->map,
-                  "layout of the direction nodes (docs/lookup-format.md)")
+                  "layout of the direction nodes (docs/formats/lookup.md)")
       ->check(CLI::IsMember({"polar", "hemi-octahedral"}));
   cmd->add_option("--quads", args->quads, "bake quads A-B only (inclusive), for merge");
   cmd->add_option("--shard", args->shard,
-                  "I/N: bake part I (from 1) of N, every N-th quad, for merge (docs/farm.md)");
+                  "I/N: bake part I (from 1) of N, every N-th quad, for merge (docs/guide/farm.md)");
   cmd->add_option("--seed", args->settings.seed, "seed of the sub-texel jitter");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::Range(0, 4096));

@@ -86,7 +86,7 @@ void run_draft(const DraftArgs& args) {
          j["warp_width_mm"]);
   family(picks, spec.weft, j["weft_colors"], j["weft_color_index"], j["weft_spacing_mm"],
          j["weft_width_mm"]);
-  // How many different places the weave holds (docs/material.md, "The
+  // How many different places the weave holds (docs/design/material.md, "The
   // weave's variety"): colours not counted.
   const NeighbourhoodCounts hood = crossing_neighbourhoods(spec);
   j["neighbourhoods"] = {{"weave_repeat", {hood.ends, hood.picks}},

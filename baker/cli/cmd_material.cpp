@@ -1,6 +1,6 @@
 // `clothbake material SPEC_OR_SCENE.json -o DIR`: bake a cloth material, the
 // appearance of one weave repeat for every view and light direction and every
-// distance (docs/material-format.md), which lookup-render applies to any
+// distance (docs/formats/material.md), which lookup-render applies to any
 // scene whose cloth matches. Read and check, call the core, write.
 
 #include <chrono>
@@ -157,7 +157,7 @@ void register_material_command(CLI::App& app, Action action) {
       ->capture_default_str();
   cmd->add_option("--shard", args->shard,
                   "I/N: bake part I (from 1) of N, a share of the view nodes, for "
-                  "'clothbake merge' (docs/farm.md)");
+                  "'clothbake merge' (docs/guide/farm.md)");
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--estimate", args->estimate,
                 "check the inputs, time a probe of the work, print the estimate as JSON; write "

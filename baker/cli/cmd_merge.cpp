@@ -1,8 +1,8 @@
 // `clothbake merge PART_DIR... -o OUT_DIR`: joins partial bakes of one scene
 // (`clothbake bake --quads A-B` or `--shard I/N`) into one lookup folder,
-// identical to a whole bake of the union (docs/lookup-format.md), or the
+// identical to a whole bake of the union (docs/formats/lookup.md), or the
 // parts of a sharded material bake (`clothbake material --shard I/N`) into
-// the material an unsharded bake writes, byte for byte (docs/farm.md).
+// the material an unsharded bake writes, byte for byte (docs/guide/farm.md).
 
 #include <cstdio>
 #include <memory>

@@ -20,9 +20,9 @@ CLI::Option* add_enum_option(CLI::App* cmd, const std::string& flag, E& value,
       ->transform(CLI::CheckedTransformer(map))
       ->default_str(io::enum_name(names, value));
 }
-}  // namespace
-
-void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
+/// The settings a user chooses: how fine, how many directions, how exact, and
+/// what the texels cover.
+void add_everyday_options(CLI::App* cmd, MaterialSettings& s) {
   // The checks of material_settings.h that a range cannot state.
   const CLI::Validator power_of_two(
       [](std::string& v) {
@@ -32,15 +32,6 @@ void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
                    : "must be a power of 2 (the mip levels halve it down to 1), got " + v;
       },
       "POWER OF 2");
-  const CLI::Validator tangent_nodes(
-      [](std::string& v) {
-        const int n = std::atoi(v.c_str());
-        return n == 0 || (n >= k_min_fiber_tangent_nodes && n <= k_max_fiber_tangent_nodes)
-                   ? std::string()
-                   : "must be 0 or in [" + std::to_string(k_min_fiber_tangent_nodes) + ", " +
-                         std::to_string(k_max_fiber_tangent_nodes) + "], got " + v;
-      },
-      "0 OR RANGE");
   cmd->add_option("--texels", s.texels, "R: texels per repeat side, a power of 2")
       ->check(CLI::Range(k_min_material_texels, k_max_material_texels) & power_of_two)
       ->capture_default_str();
@@ -58,6 +49,24 @@ void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
                   "per view node: relative RMSE the factorisation may leave (0 = exact)")
       ->check(CLI::Range(k_min_material_error, k_max_material_error))
       ->capture_default_str();
+  add_enum_option(cmd, "--address", s.address, io::k_material_address_names,
+                  "what the texels cover: the whole repeat (--texels per repeat side), or one "
+                  "block per distinct crossing neighbourhood, addressed per crossing (--texels "
+                  "per crossing side): its size follows the weave's variety, not its repeat");
+}
+
+/// Knobs of the bake's numerics, each with a measured default: touched to
+/// study a limit (docs/design/material.md), not to make a bake fit.
+void add_expert_options(CLI::App* cmd, MaterialSettings& s) {
+  const CLI::Validator tangent_nodes(
+      [](std::string& v) {
+        const int n = std::atoi(v.c_str());
+        return n == 0 || (n >= k_min_fiber_tangent_nodes && n <= k_max_fiber_tangent_nodes)
+                   ? std::string()
+                   : "must be 0 or in [" + std::to_string(k_min_fiber_tangent_nodes) + ", " +
+                         std::to_string(k_max_fiber_tangent_nodes) + "], got " + v;
+      },
+      "0 OR RANGE");
   cmd->add_option("--field-supersample", s.field_supersample, "light-field points per cell edge")
       ->check(CLI::Range(k_min_field_supersample, k_max_field_supersample))
       ->capture_default_str();
@@ -72,10 +81,6 @@ void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
                 "read each view node where its ray meets the eye's at a depth fitted to the "
                 "material (sharper weave between view nodes of a thick cloth)")
       ->capture_default_str();
-  add_enum_option(cmd, "--address", s.address, io::k_material_address_names,
-                  "what the texels cover: the whole repeat (--texels per repeat side), or one "
-                  "block per distinct crossing neighbourhood, addressed per crossing (--texels "
-                  "per crossing side): its size follows the weave's variety, not its repeat");
   cmd->add_option("--context", s.context,
                   "--address crossings: crossings either side of a block's that its light "
                   "fields span")
@@ -102,6 +107,15 @@ void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")
       ->check(tangent_nodes)
       ->capture_default_str();
+}
+}  // namespace
+
+void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
+  add_everyday_options(cmd, s);
+  add_expert_options(
+      cmd->add_option_group(
+          "Expert", "the bake's numerics; their defaults are measured (docs/design/material.md)"),
+      s);
 }
 
 }  // namespace clothbake::cli

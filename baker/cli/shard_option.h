@@ -1,6 +1,6 @@
 #pragma once
 // `--shard I/N`: part I (counted from 1) of N, as the farm's array tasks
-// number them (docs/farm.md).
+// number them (docs/guide/farm.md).
 
 #include <cstdio>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-/// Reads a ClothSpec from JSON (format: docs/cloth-spec.md).
+/// Reads a ClothSpec from JSON (format: docs/formats/cloth-spec.md).
 
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
-/// The one codec of a light in JSON, for the scene reader (docs/scene-format.md,
-/// "lights") and the lookup manifest (docs/lookup-format.md, "lights").
+/// The one codec of a light in JSON, for the scene reader (docs/formats/scene.md,
+/// "lights") and the lookup manifest (docs/formats/lookup.md, "lights").
 
 #include <nlohmann/json.hpp>
 

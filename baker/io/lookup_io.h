@@ -1,5 +1,5 @@
 #pragma once
-/// A baked lookup folder on disk (format: docs/lookup-format.md):
+/// A baked lookup folder on disk (format: docs/formats/lookup.md):
 /// `manifest.json` (io/lookup_manifest.h) plus, per cloth object and side
 /// (front/back), one half-float RGBA OpenEXR atlas packing the squares of the
 /// (quad, direction node) pairs the bake computed. Written as a whole or not

@@ -1,5 +1,5 @@
 #pragma once
-/// A lookup folder's manifest.json, both directions (docs/lookup-format.md):
+/// A lookup folder's manifest.json, both directions (docs/formats/lookup.md):
 /// what the folder holds, each object's layout and flags, and what the bake
 /// recorded. The images are lookup_io's; this file only names them.
 

@@ -1,5 +1,5 @@
 #pragma once
-/// A cloth material folder on disk (docs/material-format.md): manifest.json,
+/// A cloth material folder on disk (docs/formats/material.md): manifest.json,
 /// one half-float EXR per mip level (the coefficient atlas, alpha first) and
 /// light_factors.exr (float). Written into a temporary sibling folder and
 /// swapped in whole; read back with every field and image checked against the

@@ -1,5 +1,5 @@
 #pragma once
-/// A material folder's manifest.json as written (docs/material-format.md),
+/// A material folder's manifest.json as written (docs/formats/material.md),
 /// and the names of the folder's files, which the writer and the reader
 /// (material_io.h) both use.
 

@@ -1,5 +1,5 @@
 #pragma once
-/// Reads a render scene from JSON (format: docs/scene-format.md): camera,
+/// Reads a render scene from JSON (format: docs/formats/scene.md): camera,
 /// lights, cloth objects (an OBJ quad mesh plus a cloth spec each),
 /// background and render settings.
 

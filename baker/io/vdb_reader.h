@@ -1,9 +1,9 @@
 #pragma once
 /// Reads a volume texture from an OpenVDB file: the reverse of vdb_writer.h,
 /// for a texture edited elsewhere (Houdini, a script) or a generated one
-/// re-used (`"volume"` of a scene object, docs/scene-format.md).
+/// re-used (`"volume"` of a scene object, docs/formats/scene.md).
 ///
-/// What is accepted (docs/cloth-spec.md, "Reading a VDB back"):
+/// What is accepted (docs/formats/cloth-spec.md, "Reading a VDB back"):
 /// - the five grids of k_vdb_grid_names with their value types: `density`
 ///   float, `tangent` vec3s, `diffuse` vec3s, `specular` float, `exponent`
 ///   float (other grids are ignored);

@@ -2,7 +2,7 @@
 /// Reads a Weaving Information File (WIF 1.1): the draft (threading with a
 /// tie-up and treadling, or a liftplan; rising or sinking shed), every
 /// thread's colour and the threads' spacing and thickness. Reading rules and
-/// defaults: docs/wif.md. Errors name the file, the section and the line.
+/// defaults: docs/formats/wif.md. Errors name the file, the section and the line.
 
 #include <map>
 #include <optional>

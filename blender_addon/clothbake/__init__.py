@@ -6,7 +6,7 @@ bl_info = {
     "location": "Properties > Object > clothbake",
     "description": "Render woven cloth from clothbake's baked view-dependent lookups "
                    "(Kimoto & Ohno's 3-D texture), in Cycles without OSL",
-    "doc_url": "https://github.com/clothbake/clothbake/blob/main/docs/blender-addon.md",
+    "doc_url": "https://github.com/clothbake/clothbake/blob/main/docs/design/blender-nodes.md",
     "category": "Render",
 }
 

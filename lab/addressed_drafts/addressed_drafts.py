@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A material addressed per crossing for real WIF drafts, measured as issue 24
-asks (docs/material.md, "Addressed per crossing"):
+asks (docs/design/material.md, "Addressed per crossing"):
 
     lab/addressed_drafts/addressed_drafts.py CLOTHBAKE WORK_DIR DRAFT.wif ... [--texels 8] [--phase-bins P]
                                          [--no-randomness] [--seed-floor]

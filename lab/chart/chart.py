@@ -2,7 +2,7 @@
 scene, measures each point's seconds (median of several runs) and its error
 against a converged reference of the same scene, and writes a CSV and a
 log-log chart (error against seconds, one series per method, the Pareto
-front marked) as PNG and SVG. Driven by lab/chart/chart.sh; docs/results.md
+front marked) as PNG and SVG. Driven by lab/chart/chart.sh; docs/design/results.md
 shows the results.
 
     /usr/bin/python3 lab/chart/chart.py SCENE.json --name NAME --out DIR
@@ -175,7 +175,7 @@ def main():
                                     "--texels-per-pixel", "3"]),
              ("full K4 R16", ["--directions", "4", "--texels", "16", "--spp", "1"]),
              ("full K8 R32", ["--directions", "8", "--texels", "32", "--spp", "1"])]
-    # Cloth materials (`clothbake material`, docs/material-format.md): baked
+    # Cloth materials (`clothbake material`, docs/formats/material.md): baked
     # once for any camera and light; their seconds are amortised the same way.
     materials = [("material K16 KL10 (default)", []),
                  ("material K8 KL10", ["--directions", "8"]),

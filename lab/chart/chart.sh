@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed against accuracy (docs/results.md): sweeps every method clothbake
+# Speed against accuracy (docs/design/results.md): sweeps every method clothbake
 # offers on the paper scene (half resolution) and on testscenes/flat (grazing
 # views, isotropic shading, where Cycles can also render the real volume),
 # writing out/chart/<scene>/points.csv and charts as PNG and SVG under

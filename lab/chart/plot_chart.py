@@ -6,7 +6,7 @@ image's cost with the bake's own seconds added.
 
     /usr/bin/python3 lab/chart/plot_chart.py POINTS.csv OUT_STEM [--title T]
 writes OUT_STEM.png and OUT_STEM.svg, and OUT_STEM.md: the same points as a
-Markdown table (docs/results.md quotes it), Pareto points in bold.
+Markdown table (docs/design/results.md quotes it), Pareto points in bold.
 """
 import argparse
 import csv

@@ -13,7 +13,7 @@ where O is the world position of UV (u0, v0) (the smallest UV), U and V the
 world vectors of one UV unit along u and v, mm_per_u = repeats_per_uv x
 repeat_mm (mm of texture per UV unit), N the unit front normal and
 w = thickness_world / thickness_mm (world per texture mm through the cloth;
-docs/scene-format.md "Choosing thickness_world"). The volume lies behind
+docs/formats/scene.md "Choosing thickness_world"). The volume lies behind
 the surface (z = thickness_mm is the surface).
 """
 import json

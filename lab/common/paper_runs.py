@@ -25,7 +25,7 @@ def run(cmd):
 def write_paper_scene(cloth_path, repeats_per_uv, out_path, reference):
     """The paper scene's folds, camera and lights with the cloth at
     cloth_path; reference: a quarter of the march step, no light roulette,
-    seed 7 (the references of docs/material.md)."""
+    seed 7 (the references of docs/design/material.md)."""
     scene = json.load(open(os.path.join(PAPER, "scene.json")))
     scene["objects"][0].update(mesh=os.path.join(PAPER, "cloth.obj"), cloth=cloth_path,
                                repeats_per_uv=repeats_per_uv)

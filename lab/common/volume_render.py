@@ -14,7 +14,7 @@ bpy.ops.render.render() alone (Cycles' scene sync, volume upload and
 sampling; saving the EXR is excluded) and the CPU seconds (user + system,
 all threads) Blender spent in it.
 
-Physics (docs/scene-format.md; clothbake's `isotropic` shading):
+Physics (docs/formats/scene.md; clothbake's `isotropic` shading):
 - Principled Volume, Density = extinction_per_mm x mm per world unit times the
   `density` grid, Color = the object's isotropic_albedo (--color albedo, the
   default, as clothbake's isotropic mode) or the `diffuse` grid through an

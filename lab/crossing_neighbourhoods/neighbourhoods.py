@@ -16,7 +16,7 @@ drawdown with the spacing and width of every thread in it:
 Writes OUT_DIR/neighbourhoods.json and prints a table; the sizes are in MB at
 T texels per thread side (default 16, the paper material's 32 texels over its
 2 x 2 repeat, and 8), scaled from the paper material (104.4 MB for 32 x 32
-texels at K 16, docs/material.md).
+texels at K 16, docs/design/material.md).
 """
 import argparse
 import json

@@ -2,7 +2,7 @@
 # The independent check (issue 6): clothbake's reference renderer in its
 # isotropic mode against Blender 3.4 Cycles rendering the same cloth as a real
 # volume (OpenVDB) with volume_bounces = 0, an isotropic phase, and the same
-# camera, lights and pixel filter (docs/results.md, "An independent check:
+# camera, lights and pixel filter (docs/design/results.md, "An independent check:
 # Cycles real volumes").
 #
 #   lab/cycles_check/cycles_check.sh [OUT_DIR] [--check] [--figures DIR]

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Compares clothbake's reference render of a scene with Cycles' render of the
-same scene as a real volume (lab/cycles_check/cycles_check.sh; docs/results.md, "An
+same scene as a real volume (lab/cycles_check/cycles_check.sh; docs/design/results.md, "An
 independent check: Cycles real volumes").
 
 Usage:

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Difference maps of several Cycles set-ups against one clothbake picture,
-side by side (the systematic-difference table of docs/results.md, "An
+side by side (the systematic-difference table of docs/design/results.md, "An
 independent check: Cycles real volumes").
 
 Usage: cycles_check_variants.py OUT.png CLOTHBAKE.exr LABEL=CYCLES.exr...

@@ -3,7 +3,7 @@
 voxels of the same value: the same piecewise-constant density as clothbake's
 nearest-cell lookup, on a grid N times finer, so that Cycles' trilinear
 lookup blurs it over 1/N of a cell instead of a whole cell. An experiment of
-docs/results.md ("An independent check: Cycles real volumes"): how much of
+docs/design/results.md ("An independent check: Cycles real volumes"): how much of
 the difference between Cycles and clothbake is the lookup filter.
 
 Usage: upsample_volume.py TILED.vdb VOLUME_DIR N OUT_DIR

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Cycles with clothbake's bake against Cycles rendering the same cloth as a
-# real volume, at matched noise (docs/performance.md, "Cycles: baked lookup
+# real volume, at matched noise (docs/design/performance.md, "Cycles: baked lookup
 # against a real volume"). Scene: testscenes/flat (a flat cloth of 6 x 6
 # repeats, isotropic shading, so both routes compute the same physics).
 #

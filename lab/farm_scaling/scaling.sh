@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The farm's scaling figure (docs/farm.md, "Scaling"): one material bake on
+# The farm's scaling figure (docs/guide/farm.md, "Scaling"): one material bake on
 # this machine, then the same bake through a one-machine Slurm cluster in
 # 1, 2, 4, 8 shards, each task given every core (--cpus-per-task $(nproc)), so
 # the tasks run one after another and each shard's time is what one node like

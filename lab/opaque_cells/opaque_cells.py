@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Light fields where cells are opaque (docs/material.md, "Opaque cells"):
+"""Light fields where cells are opaque (docs/design/material.md, "Opaque cells"):
 
     lab/opaque_cells/opaque_cells.py CLOTHBAKE WORK_DIR [--chart OUT.png] [--only N ...]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Which of the cloth's random draws make a draft's seed floor
-(docs/material.md, "The per-pixel floor"):
+(docs/design/material.md, "The per-pixel floor"):
 
     lab/seed_floor/seed_floor_parts.py CLOTHBAKE WORK_DIR DRAFT.wif
 

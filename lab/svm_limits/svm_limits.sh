@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The light-term limits of Apply material's SVM note, measured again
-# (blender_addon/clothbake/core/svm_budget.py, docs/material.md "Lights and
+# (blender_addon/clothbake/core/svm_budget.py, docs/design/material.md "Lights and
 # the SVM stack"):
 #   lab/svm_limits/svm_limits.sh CLOTHBAKE [WORK_DIR]
 # Bakes the paper cloth twice (colour-free and RGB; R 16, K 12, KL 8, 1

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The WIF figures of README.md and docs/wif.md, from the shipped files:
+# The WIF figures of README.md and docs/formats/wif.md, from the shipped files:
 #   docs/images/wif_plaid.png        testscenes/wif/scene.json rendered (640 x 480,
 #                                     32 spp) beside its drawdown (clothbake draft)
 #   docs/images/wif_orientation.png  a small real draft's drawdown, tiled 3 x 3,

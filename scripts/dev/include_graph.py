@@ -2,7 +2,7 @@
 """Draws the house of the material slice: its source files as boxes, one
 row per room (cli, io, core/material_bake, core/material, core/march,
 the core rooms below),
-and an arrow for each #include between them. Used for docs/architecture.md
+and an arrow for each #include between them. Used for docs/design/architecture.md
 (before and after a restructuring: run it on two checkouts).
 
     scripts/dev/include_graph.py [CHECKOUT] OUT.png [--title TEXT]

@@ -4,7 +4,7 @@
 #   scripts/dev/output_hashes.sh CLOTHBAKE [OUT_TSV]
 # Runs render, bake (full and adaptive; every file of the folder, the
 # manifest without its timings), lookup-render and volume (the cells hash:
-# OpenVDB writes a random UUID into each file, docs/hardening.md). One
+# OpenVDB writes a random UUID into each file, docs/design/hardening.md). One
 # thread and two threads must agree too. Then the cloth material:
 # a small material of the paper cloth (every file of the folder, the
 # manifest less its statistics), lookup-render of the paper scene from it

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The cloth material's SVM stack in Cycles (docs/material.md, "Lights and
+# The cloth material's SVM stack in Cycles (docs/design/material.md, "Lights and
 # the SVM stack"): renders SCENE.json from MATERIAL_DIR through the headless
 # route at 1 sample with Cycles' debug log, and prints per cloth shader its
 # SVM node count and peak stack use (Cycles' limit is 255 floats; past it

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A one-machine Slurm cluster for the farm scripts (docs/farm.md): munged,
+# A one-machine Slurm cluster for the farm scripts (docs/guide/farm.md): munged,
 # slurmctld and one slurmd on this machine, every file of theirs under one
 # folder, no systemd, nothing written to /etc/slurm or /etc/munge.
 #   scripts/farm/local-cluster.sh start|stop|status|env|purge

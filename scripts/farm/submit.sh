@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# clothbake on a Slurm cluster (docs/farm.md): array jobs for a material in
+# clothbake on a Slurm cluster (docs/guide/farm.md): array jobs for a material in
 # shards, a per-scene bake in shards, or a sequence of frames.
 #
 #   submit.sh material SPEC_OR_SCENE -o DIR --shards N [OPTIONS] [-- MATERIAL_OPTIONS]

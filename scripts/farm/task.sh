@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One task of a farm job (docs/farm.md): the batch script scripts/farm/submit.sh
+# One task of a farm job (docs/guide/farm.md): the batch script scripts/farm/submit.sh
 # hands to sbatch. Not run by hand.
 #   task.sh TASK_DIR [NAME]
 # NAME is the task's file in TASK_DIR (default: $SLURM_ARRAY_TASK_ID): NAME.args

@@ -14,7 +14,7 @@ from clothbake.core.errors import ClothbakeError  # noqa: E402
 
 
 def test_defaults_are_the_cloth_specs():
-    # docs/cloth-spec.md / baker/core/weave/cloth_spec.h
+    # docs/formats/cloth-spec.md / baker/core/weave/cloth_spec.h
     d = cf.default_fields()
     assert d["weave"] == "plain"
     assert d["warp_color"] == [0.60, 0.09, 0.08] and d["weft_color"] == [0.55, 0.42, 0.10]

@@ -1,4 +1,4 @@
-"""The add-on's direction maths against docs/lookup-format.md."""
+"""The add-on's direction maths against docs/formats/lookup.md."""
 import math
 import random
 

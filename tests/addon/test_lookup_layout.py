@@ -129,7 +129,7 @@ def test_tangent_follows_u_and_flips_with_mirrored_uvs():
 def test_atlas_uv_addresses_texel_centres_as_the_format_says():
     """Texel (a, b) of a square is centred at s = (a + .5)/size,
     t = 1 - (b + .5)/size, and is atlas pixel (x + a, y + b), rows from the
-    top (docs/lookup-format.md); as a UV with a bottom-left origin that is
+    top (docs/formats/lookup.md); as a UV with a bottom-left origin that is
     ((x + a + .5)/W, 1 - (y + b + .5)/H). The index image holds the square's
     origin the shader adds (s, t) x size to, and the size (0: not baked)."""
     from clothbake.core.lookup_manifest import LookupObject, SideAtlas

@@ -1,6 +1,6 @@
 """The add-on's manifest reader: a real bake reads; each broken manifest is
 refused with the file and field named (the same checks as clothbake's own
-reader, docs/lookup-format.md "Checks a reader makes")."""
+reader, docs/formats/lookup.md "Checks a reader makes")."""
 import json
 import os
 import shutil

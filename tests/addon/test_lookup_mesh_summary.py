@@ -1,4 +1,4 @@
-"""The mesh summary a lookup records (docs/lookup-format.md, objects[o].mesh):
+"""The mesh summary a lookup records (docs/formats/lookup.md, objects[o].mesh):
 the add-on computes the same numbers as clothbake (baker/core/geometry/mesh_summary.cpp)
 and tells a moved vertex from an OBJ round trip."""
 import math

@@ -196,7 +196,7 @@ def test_spot_and_area_lights_round_trip(float32, light):
 def test_light_watts():
     """Blender's watts: a spot's as a point light's (4 pi per unit of
     intensity), an area light's 4 per unit of radiant intensity (measured:
-    Cycles 3.4 gives radiance P / (4 A); docs/blender-addon.md)."""
+    Cycles 3.4 gives radiance P / (4 A); docs/design/blender-nodes.md)."""
     spot, area = SPOT_AND_AREA[0], SPOT_AND_AREA[1]
     assert blender_light(spot)["energy"] == pytest.approx(2.5 * 4 * math.pi, rel=1e-12)
     assert blender_light(area)["energy"] == pytest.approx(12.0, rel=1e-12)

@@ -335,7 +335,7 @@ def test_an_edited_inline_spec_reaches_the_volume(clothbake_bin, wif_file, tmp_p
 def check_crossings(path, warp_up, warp, weft):
     """crossings.exr (x = end, y = pick, row 0 first; A = 1 warp, 2 weft on
     top) against the draft: the top yarn's family, and its colour up to the
-    per-cell diffuse factor (colour x a scalar, docs/cloth-spec.md)."""
+    per-cell diffuse factor (colour x a scalar, docs/formats/cloth-spec.md)."""
     import OpenImageIO as oiio
     buf = oiio.ImageBuf(path)
     px = buf.get_pixels(oiio.FLOAT)

@@ -7,7 +7,7 @@ Blender's output).
     blender -b --factory-startup --python-exit-code 1 -P addon_errors.py -- \
         CLOTHBAKE_EXE SOURCE_DIR TMP_DIR
 
-Cases (docs/blender-addon.md, "The add-on's errors"):
+Cases (docs/design/blender-nodes.md, "The add-on's errors"):
   a. export / bake / apply on a mesh with a triangle or an n-gon;
   b. apply with a missing bake folder, a folder without manifest.json, a
      malformed manifest, a manifest of another format version;

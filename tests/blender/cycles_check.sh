@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # CTest blender.cycles_check: clothbake's reference renderer (isotropic mode)
 # against Blender 3.4 Cycles rendering the same volumes as real OpenVDB volumes
-# with volume_bounces = 0 (lab/cycles_check/cycles_check.sh; docs/results.md, "An
+# with volume_bounces = 0 (lab/cycles_check/cycles_check.sh; docs/design/results.md, "An
 # independent check: Cycles real volumes"). Fails when the mean ratio or the
 # PSNR of either scene leaves its bound.
 #
 #   bash cycles_check.sh BLENDER_EXE CLOTHBAKE_EXE SOURCE_DIR
 #
-# BOUNDS (measured on the 2-core machine, Blender 3.4.1, docs/results.md; the
+# BOUNDS (measured on the 2-core machine, Blender 3.4.1, docs/design/results.md; the
 # seeds are fixed, and three runs gave the same figures to the last digit).
 # 113 to 124 CPU seconds: about 1 to 1.5 minutes on the idle machine. "noise" is the Cycles picture's own,
 # from its two seeds; the mean ratio's noise sigma is under 1e-4 in both.
@@ -31,7 +31,7 @@
 # measured mean ratio 1.0077, PSNR 37.08 dB (noise alone 39.57 dB: 2.38% per
 # pixel; systematic 2.10%), 43.73 dB after 4 x 4 averaging (noise 0.60%,
 # systematic 1.15%). The +0.77% and the systematic RMSE are Cycles' trilinear
-# lookup and its one-voxel march (docs/results.md: 2 x finer cells leave
+# lookup and its one-voxel march (docs/design/results.md: 2 x finer cells leave
 # +0.30% and 0.84%).
 #   - ratio in [1.002, 1.014]: the measurement +-0.6% (60 noise sigmas); the
 #     lower end stays below the 1.0030 measured with the lookup blur and the
@@ -39,13 +39,13 @@
 #     1% error in the sun's strength moves the ratio by about 0.9%; a point
 #     light of 4 pi^2 I watts instead of 4 pi I moved it to 1.1787 (tried).
 #   - PSNR >= 36 dB: 1.1 dB below (RMSE +13%). Seen when the volume is
-#     misplaced or mis-scaled (2 x 128 spp, docs/results.md): half a voxel
+#     misplaced or mis-scaled (2 x 128 spp, docs/design/results.md): half a voxel
 #     off 26.9 dB, one voxel off 24.2 dB, 3 x the extinction 29.0 dB, cubic
 #     lookup 32.4 dB.
 #   - PSNR after 4 x 4 >= 42.5 dB: 1.2 dB below (RMSE +15%); the same faults
 #     give 31.4, 27.7 and 38.0 dB.
 #
-# Tried (docs/results.md, "The test and its bounds"): the extinction doubled
+# Tried (docs/design/results.md, "The test and its bounds"): the extinction doubled
 # in lab/common/volume_render.py fails this test (slab ratio 0.5414,
 # PSNR 6.8 dB; flat PSNR 31.9 dB, 37.0 dB after 4 x 4); the point light at
 # 4 pi^2 I watts fails the flat scene (ratio 1.1787, PSNR 20.8 dB).

@@ -1,4 +1,4 @@
-"""Headless Blender 3.4 test of a colour-free material (docs/material-format.md,
+"""Headless Blender 3.4 test of a colour-free material (docs/formats/material.md,
 "Colour-free parts") in Blender: the paper scene's cloth baked once with
 --parts specular-warp-weft, rendered in Cycles in the scene's own colours and
 in a recolouring (weft recoloured, a 4-end warp stripe), each against

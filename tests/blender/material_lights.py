@@ -43,7 +43,7 @@ through the shadowed closure, the other through the Emission.
 The light rig: the spot and the area light shown again, beside the sun, a
 second area light (a square) and two point lights: 8 light terms (an area
 light is read at two points), past where Cycles' 255-float SVM stack ran out
-before (docs/material.md, "Lights and the SVM stack": black cloth under 3
+before (docs/design/material.md, "Lights and the SVM stack": black cloth under 3
 point lights on cycles-lit, 5 on exact). Exact route, world black, 4
 samples, one seed: the rig's render equals the sum of the six renders of one
 light each (the others hidden: the drivers zero a hidden light) within float

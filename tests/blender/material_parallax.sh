@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The node group's view parallax (docs/material.md, "View nodes and
+# The node group's view parallax (docs/design/material.md, "View nodes and
 # parallax"): testscenes/dome, where the shift matters (a thick cloth seen
 # from low), a small material baked with it (R 16, K 16, 1 spp), Blender's
 # headless exact route (Cycles, 16 samples, seeds 1 and 2) against

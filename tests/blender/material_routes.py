@@ -29,7 +29,7 @@ at most as much (it has no stochastic picks). A comparison passes when its
 relative RMSE is at most 3 sqrt(2) sigma (three standard deviations of the
 difference of two such images) plus the systematic part stated by each
 check (the dense light grid against clothbake's Catmull-Rom, the rank kept,
-Eevee's own filtering), measured in docs/material.md.
+Eevee's own filtering), measured in docs/design/material.md.
 
     blender -b --factory-startup --python-exit-code 1 -P material_routes.py -- \
         CLOTHBAKE_EXE SOURCE_DIR WORK_DIR
@@ -53,7 +53,7 @@ from lib.scene import lit_flat_scene  # noqa: E402
 
 SPP = 64
 N = 8  # quads a side
-# Systematic parts (docs/material.md, "Blender"): the resampled light grid
+# Systematic parts (docs/design/material.md, "Blender"): the resampled light grid
 # and the rank kept against lookup-render's Catmull-Rom over all components;
 # on the bent cloth, Blender's subdivided triangles against clothbake's
 # bilinear patches; Eevee's hashed transparency and float16 textures.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The catalogue of bad inputs (docs/hardening.md, "Bad inputs"): every case in
+# The catalogue of bad inputs (docs/design/hardening.md, "Bad inputs"): every case in
 # bad_commands/cases.txt runs one clothbake command and must give
 #   1. exit status 1,
 #   2. the exact message on stderr: its first line is "clothbake: error: " and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Determinism (docs/hardening.md): render, bake (full, adaptive, a --quads
+# Determinism (docs/design/hardening.md): render, bake (full, adaptive, a --quads
 # slice), material and lookup-render (of a bake and of a material) write the same bytes with 1 and 2 threads and across
 # two runs of each: four runs per command, every output file compared with
 # cmp. Manifests are compared without their wall-clock fields

@@ -5,7 +5,7 @@
 # - lookup-render from a material baked at the defaults (the material knows
 #   no light) must be within 8 % relative RMSE of the reference renderer at
 #   256 samples, the bound (measured 6.9 %; the reference's own noise
-#   at 256 samples is about 1 %, docs/blender-addon.md);
+#   at 256 samples is about 1 %, docs/design/blender-nodes.md);
 # - the per-scene adaptive bake through lookup-render: its mean within 1 %
 #   of the reference's and 8 x 8-pixel blocks within 3 % (RMSE over RMS;
 #   measured 0.4 % and 1.9 %; per pixel it errs 10 % here, with a sun alone

@@ -106,7 +106,7 @@ done
 # Against the whole-repeat material of the same texels per thread: the
 # colours land where they do there (the stripe's green over red rises by
 # the same factor within 5 %), and the images differ by less than the
-# cloth's own seed-to-seed variation at this scale (docs/material.md).
+# cloth's own seed-to-seed variation at this scale (docs/design/material.md).
 /usr/bin/python3 - "$tmp" <<'PY' || fail "the addressed material's colours differ from the whole repeat's"
 import sys
 import numpy as np

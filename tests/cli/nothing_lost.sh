@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Nothing lost (docs/hardening.md): a render, bake or volume that is interrupted, runs
+# Nothing lost (docs/design/hardening.md): a render, bake or volume that is interrupted, runs
 # out of disk or meets a read-only folder leaves the previous output byte for
 # byte as it was, no half-written file under the final name and no temporary
 # file; a re-run completes and gives the whole output.

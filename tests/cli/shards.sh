@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Sharded bakes (docs/farm.md): a material in 3 parts merged has
+# Sharded bakes (docs/guide/farm.md): a material in 3 parts merged has
 # every byte of the unsharded bake, whatever order the parts are given in; a
 # per-scene bake in 2 parts (--shard) merged equals the whole bake; and a
 # part is refused by lookup-render, a missing, doubled or foreign part by

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A scene object's "volume" (docs/scene-format.md) through the CLI:
+# A scene object's "volume" (docs/formats/scene.md) through the CLI:
 # 1. round trip: `clothbake volume` writes volume.vdb; a render whose object
 #    reads it ("volume", with and without its "cloth") gives the same EXR
 #    bytes as the render that generates the texture from the spec;

@@ -1,5 +1,5 @@
 // Stability suite: drives each method into the regimes where it
-// may fail and records what happens (docs/stability.md).
+// may fail and records what happens (docs/design/stability.md).
 //
 // Every test asserts that no output is NaN or Inf and that outputs stay in
 // their bounds: radiance between 0 and the most a Lambert + Phong fibre could
@@ -138,7 +138,7 @@ V3f direction(double theta_deg, double phi_deg) {
 
 /// A flat 2 x 2 quad in z = 0 (normal +z), UVs [0,1]^2, over a homogeneous
 /// volume whose texture space is isotropic (the same mm per world unit in x,
-/// y and z); isotropic shading, so the closed form of docs/slab-analytic.md holds.
+/// y and z); isotropic shading, so the closed form of docs/design/slab-analytic.md holds.
 Scene slab_scene(float density, float extinction, int layers) {
   Scene scene;
   ClothObject obj;
@@ -207,7 +207,7 @@ void place_camera(Scene& scene, double theta_deg, double phi_deg) {
 /// Single scattering from a homogeneous slab of optical depth tau0, isotropic
 /// phase, albedo a, irradiance E, seen at cosine mu_v > 0 with the light at
 /// cosine mu_l (> 0: lit on the viewed side; < 0: from behind; 0: in the
-/// plane, no light enters) (docs/slab-analytic.md).
+/// plane, no light enters) (docs/design/slab-analytic.md).
 double slab_radiance(double a, double E, double tau0, double mu_v, double mu_l) {
   const double p = 1.0 / (4.0 * k_pi);
   if (mu_l == 0.0) return 0.0;
@@ -306,7 +306,7 @@ TEST(Stability, FiberModelGrazingAndBelowHorizon) {
       "grazing pairs vs ellipsoid N=4096: table max err diffuse %.4f specular %.4f; "
       "kajiya-kay diffuse %.4f specular %.4f\n",
       configs, table_err_d, table_err_s, kk_err_d, kk_err_s);
-  // docs/fiber-model.md: the table holds 0.03 / 0.045 over random configurations.
+  // docs/design/fiber-model.md: the table holds 0.03 / 0.045 over random configurations.
   EXPECT_LE(table_err_d, 0.03);
   EXPECT_LE(table_err_s, 0.045);
 }
@@ -327,7 +327,7 @@ TEST(Stability, FiberModelExtremeAspect) {
     sphere_err = std::max(sphere_err, std::fabs(r.diffuse - mu));
   }
   // Toward the cylinder: (theta_L, D, theta_E) configurations; the gap to the
-  // limit falls as 1/aspect^2 (docs/fiber-model.md), so at 100 and 1000 it is
+  // limit falls as 1/aspect^2 (docs/design/fiber-model.md), so at 100 and 1000 it is
   // below the noise 4 sqrt(mu (1-mu) / N).
   struct Cyl {
     double theta_l, d, theta_e;

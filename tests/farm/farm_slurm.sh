@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The farm scripts on a one-machine Slurm cluster (docs/farm.md):
+# The farm scripts on a one-machine Slurm cluster (docs/guide/farm.md):
 # scripts/farm/local-cluster.sh in a private folder (its own munge key,
 # ports, state; stopped and deleted at the end), scripts/farm/submit.sh
 # against it. Checks, each against the same work done by one clothbake run:

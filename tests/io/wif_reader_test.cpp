@@ -1,4 +1,4 @@
-// The WIF reader, case by case (io/wif_reader.h, docs/wif.md). The refusals
+// The WIF reader, case by case (io/wif_reader.h, docs/formats/wif.md). The refusals
 // of whole files are the catalogue tests/cli/bad_wifs/; real files from
 // weaving programs are checked by tests/cli/wif_real.sh.
 

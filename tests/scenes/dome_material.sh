@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The curvature case of the stability suite (docs/stability.md,
+# The curvature case of the stability suite (docs/design/stability.md,
 # "Curved cloth at grazing views"): testscenes/dome, the paper's weave on a
 # spherical cap seen from low over its rim, its flanks and far side at
 # grazing views. lookup-render from a material baked at the defaults against
 # the reference renderer at 256 samples:
 # - per pixel (compare's relative RMSE): held at 11.5 % (measured 10.93 %
 #   with the view parallax of the default bake, 12.47 % without it; the
-#   issue's target of 8 % is not met here, see docs/stability.md);
+#   issue's target of 8 % is not met here, see docs/design/stability.md);
 # - over 8 x 8-pixel blocks (RMSE over RMS): held at 3 % (measured 2.3 %):
 #   the error is at the scale of the weave, not a shading trend;
 # - no worse than the per-scene adaptive bake of the same scene (22.0 %).

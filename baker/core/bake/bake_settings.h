@@ -18,7 +18,7 @@ inline constexpr float k_max_texels_per_pixel = 64.0f;             ///< adaptive
 
 struct BakeSettings {
   int directions = 8;  ///< K: direction nodes per side of each hemisphere, [2, 64]
-  DirectionMap map = DirectionMap::HemiOctahedral;  ///< node layout (docs/lookup-format.md)
+  DirectionMap map = DirectionMap::HemiOctahedral;  ///< node layout (docs/formats/lookup.md)
   int texels = 64;                ///< texels per quad side in a full bake, [1, 4096]
   int spp = 4;                    ///< jittered sub-texel samples per texel and direction
   bool adaptive = false;          ///< derive quads, texels and directions from the camera

@@ -1,7 +1,7 @@
 #pragma once
 /// The baker: evaluates the prepared scene's march (ClothScene::shade_surface)
 /// per texel of each quad and per view direction of a hemisphere grid, into a
-/// LookupTable that a renderer without volumes can apply (docs/lookup-format.md).
+/// LookupTable that a renderer without volumes can apply (docs/formats/lookup.md).
 ///
 /// A full bake (every quad, every direction node of both sides, `texels` per
 /// quad side) serves any camera. An adaptive bake derives everything from the

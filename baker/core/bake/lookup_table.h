@@ -1,5 +1,5 @@
 #pragma once
-/// A baked view-dependent lookup of one cloth object (docs/lookup-format.md):
+/// A baked view-dependent lookup of one cloth object (docs/formats/lookup.md):
 /// for each baked (quad, direction node) pair, a square of texels over the
 /// quad's patch parameters (s, t) holding the RGBA seen from that direction:
 /// RGB the radiance leaving toward it (premultiplied: it already includes the

@@ -2,7 +2,7 @@
 /// What identifies a scene to a lookup: a hash of everything in a scene that
 /// changes what a bake computes (meshes, cloth specs, lights, the render
 /// settings that change a march; not the camera, not spp). A lookup is only
-/// valid for a scene with the same fingerprint (docs/lookup-format.md,
+/// valid for a scene with the same fingerprint (docs/formats/lookup.md,
 /// `scene_hash`).
 
 #include <string>

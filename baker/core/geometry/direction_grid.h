@@ -10,7 +10,7 @@
 /// whose boundary is the horizon. Nodes sit at i / (K - 1) (corners and
 /// horizon included), so every direction interpolates bilinearly between four
 /// nodes of one side, with no extrapolation. Why hemi-octahedral:
-/// docs/lookup-format.md (node spacing and measured error at grazing angles).
+/// docs/formats/lookup.md (node spacing and measured error at grazing angles).
 
 #include <Imath/ImathVec.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// A few numbers that tell one quad mesh from another with a tolerance: its
 /// world bounds, UV bounds, mean quad centre and total area. A lookup records
-/// them per object (docs/lookup-format.md, `objects[o].mesh`) so a reader that
+/// them per object (docs/formats/lookup.md, `objects[o].mesh`) so a reader that
 /// cannot recompute clothbake's exact scene hash (the Blender add-on, holding
 /// a mesh that went through an OBJ file and back) can still refuse a lookup
 /// baked from another mesh, or from this one before it was moved.

@@ -5,7 +5,7 @@
 /// are in:
 ///   *world*: the scene;
 ///   *local*: the orthonormal frame T, B, N at a point, world units (the
-///     space of the lookups' direction nodes, docs/lookup-format.md);
+///     space of the lookups' direction nodes, docs/formats/lookup.md);
 ///   *texture*: millimetres of the volume texture: x along the weft, y along
 ///     the warp, z up; the top face is z = size_mm.z.
 

@@ -1,6 +1,6 @@
 #pragma once
 /// A cloth material: the appearance of one weave repeat for every view and
-/// light direction, prefiltered for every distance (docs/material-format.md).
+/// light direction, prefiltered for every distance (docs/formats/material.md).
 ///
 /// For view node v, light node n and a texel x of mip level m, radiance per
 /// unit irradiance is stored factorised per view node (a truncated SVD of

@@ -1,5 +1,5 @@
 #pragma once
-/// The shape of a cloth material's table, stated once (docs/material-format.md):
+/// The shape of a cloth material's table, stated once (docs/formats/material.md):
 /// how many view and light nodes, how many mip levels of how many texels, where
 /// a texel sits in a level's atlas image, and how many bytes the table takes at
 /// a given rank, in memory, in its files and while it is baked. The bake, its
@@ -18,7 +18,7 @@ struct MaterialLayout {
   int directions = 16;        ///< K: view nodes per side of each hemisphere's grid
   int light_directions = 10;  ///< KL: light nodes per side of each hemisphere's grid
   /// Values per coefficient slot: RGB, or the colour-free parts (specular,
-  /// own warp, own weft, next warp, next weft: docs/material-format.md).
+  /// own warp, own weft, next warp, next weft: docs/formats/material.md).
   int channels = 3;
   /// 0: the texels cover the whole repeat (R x R). Otherwise a material
   /// addressed per crossing: `blocks` blocks of R x R texels, one per

@@ -1,5 +1,5 @@
 #pragma once
-/// What a cloth-material bake is asked to compute (docs/material-format.md),
+/// What a cloth-material bake is asked to compute (docs/formats/material.md),
 /// what its appearance depends on besides the cloth spec, and the ranges each
 /// setting may take. The ranges are stated here once: the core checks them
 /// (check_material_settings), the manifest reader, the command line and the
@@ -24,12 +24,12 @@ inline constexpr int k_min_field_supersample = 1, k_max_field_supersample = 4;
 /// Tangent nodes per side of the fibre table (0 turns the table off).
 inline constexpr int k_min_fiber_tangent_nodes = 2, k_max_fiber_tangent_nodes = 256;
 
-/// What a coefficient's three channels hold (docs/material-format.md):
+/// What a coefficient's three channels hold (docs/formats/material.md):
 /// linear RGB, or the colour-free parts, specular and the diffuse of each yarn
 /// family, to be multiplied by the yarn colours when the material renders.
 enum class MaterialParts { Rgb, SpecularWarpWeft };
 
-/// How a material's texels cover the cloth (docs/material-format.md): the
+/// How a material's texels cover the cloth (docs/formats/material.md): the
 /// whole repeat, R x R texels; or one block of R x R texels per distinct
 /// crossing neighbourhood (crossing_neighbourhoods.h, plus 1), addressed
 /// through a per-crossing index, so that its size follows the weave's
@@ -100,7 +100,7 @@ struct MaterialSettings {
   /// crossing, each bin its own block of the class (1: the phase is not in
   /// the class). The generator draws that phase per yarn; at a thread per
   /// pixel or two it is what makes one seed's cloth differ from another's
-  /// (docs/material.md, "The per-pixel floor is the ply phase").
+  /// (docs/design/material.md, "The per-pixel floor is the ply phase").
   int phase_bins = 1;
   /// Colour-free parts need fibre shading and a volume made colour-free
   /// (core/weave/cloth_colours.h); the command chooses.

@@ -95,7 +95,7 @@ void check_material_fits(const ClothScene& prepared, int o, const ClothMaterial&
   // The map's stretch between the texture's axes (optics.aspect) is not
   // checked: a garment's UV islands are stretched each their own way, and
   // the material shades them all at the stretch it was baked for, as the
-  // add-on does (exact where the two agree; docs/material.md).
+  // add-on does (exact where the two agree; docs/design/material.md).
   if (std::fabs(have.extinction_per_mm / want.extinction_per_mm - 1.0f) > 1e-6f)
     throw InputError(obj + ".extinction_per_mm", "is " + str(have.extinction_per_mm) +
                                                      ", the material was baked at " +

@@ -20,7 +20,7 @@ MaterialOptics object_optics(const ClothScene& prepared, int object);
 
 /// How far an object's depth scale may differ from a material's before the
 /// material is refused: beyond it, the fibre-shading angles drift (the march
-/// path stays exact in texture space, docs/material-format.md).
+/// path stays exact in texture space, docs/formats/material.md).
 inline constexpr float k_depth_scale_tolerance = 0.05f;
 
 /// Throws InputError on the first field in which `object` differs from what
@@ -32,7 +32,7 @@ void check_material_fits(const ClothScene& prepared, int object, const ClothMate
 /// How wide a lookup's footprint is taken. Each of a pixel's spp stratified
 /// samples prefilters its own stratum: the footprint is the pixel's width
 /// times footprint_scale / sqrt(spp), so the samples' lookups together cover
-/// the pixel once, whatever spp (docs/material-format.md, "Reading it").
+/// the pixel once, whatever spp (docs/formats/material.md, "Reading it").
 struct MaterialLookupSettings {
   float footprint_scale = 1.0f;
   ClothMaterial::LightFilter light_filter = ClothMaterial::LightFilter::CatmullRom;

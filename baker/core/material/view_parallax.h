@@ -1,6 +1,6 @@
 #pragma once
 /// Parallax-aligned view interpolation: where a lookup reads each view node
-/// (docs/material.md, "View nodes and parallax").
+/// (docs/design/material.md, "View nodes and parallax").
 ///
 /// A view ray that enters the slab at x is, at depth h below the top face,
 /// at x - h * slope(to_eye) (slope = (x, y) / z in texture space). Two

@@ -1,6 +1,6 @@
 #pragma once
 /// The yarn colours a colour-free material renders with
-/// (docs/material-format.md, "Colour-free parts"): per mip level, the warp
+/// (docs/formats/material.md, "Colour-free parts"): per mip level, the warp
 /// colour of every texel column and the weft colour of every texel row, over
 /// the colours' own repeat (q material repeats when a per-thread colour
 /// sequence does not divide the material's threads).

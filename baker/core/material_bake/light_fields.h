@@ -17,7 +17,7 @@
 ///    0.45. Where one holds several (a thick yarn at 8 cells a thread), the
 ///    depth jumps across a yarn's edge within one cell and the interpolation
 ///    puts shadow where the light still comes in: a 2.12 mm plain weave
-///    rendered 7 % darker (docs/material.md, "Opaque cells").
+///    rendered 7 % darker (docs/design/material.md, "Opaque cells").
 ///  - LayerMarch: optical depth at the face planes between layers; a sample
 ///    marches its own layer toward each light cell by cell (the cells'
 ///    densities are held) to the face, and reads the face's depth where the

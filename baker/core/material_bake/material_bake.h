@@ -1,6 +1,6 @@
 #pragma once
 /// The material bake: one weave repeat's appearance for every view node,
-/// light node and texel (docs/material-format.md), computed from the volume
+/// light node and texel (docs/formats/material.md), computed from the volume
 /// texture alone (no scene, no lights, no mesh):
 ///  1. the transmittance toward every light node, one field each over the
 ///     repeat (light_fields.h);

@@ -1,5 +1,5 @@
 #pragma once
-/// A material bake split over machines (docs/farm.md): part I of N bakes
+/// A material bake split over machines (docs/guide/farm.md): part I of N bakes
 /// only its share of the view nodes, every one exactly as the whole bake
 /// would (each view node's samples are seeded by their own indices and it is
 /// factorised alone), so joining the parts gives the whole bake's bytes.

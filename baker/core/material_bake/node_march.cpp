@@ -106,7 +106,7 @@ void reflect_all_lights(const NodeMarchInput& in, const Cell& cell, int shaded, 
 }  // namespace
 
 // The same march as march_view_ray (the skeleton of sample_march.h), so the
-// two agree sample for sample; tests/core/material/material_test.cpp checks it.
+// two agree sample for sample; tests/core/material_bake/material_bake_test.cpp checks it.
 float march_view_ray_all_lights(const NodeMarchInput& in, V3f* radiance, NodeMarchScratch& scratch,
                                 NodeMarchCounts& counts, V3f* radiance_next) {
   const VolumeTexture& volume = *in.volume;

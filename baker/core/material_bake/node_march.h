@@ -30,7 +30,7 @@ namespace clothbake {
 /// that a cell's response toward all light nodes is one set of bilinear
 /// weights applied to contiguous rows instead of one fibre evaluation per
 /// light node. Built once per view node; its interpolation error is measured
-/// in tests/core/material/material_test.cpp.
+/// in tests/core/material_bake/material_bake_test.cpp.
 class FiberLightTable {
  public:
   /// `k` x `k` tangent nodes; evaluates `shader` k^2 x light-node times.

@@ -1,5 +1,5 @@
 #pragma once
-/// Everything a render needs, filled by the I/O layer (docs/scene-format.md).
+/// Everything a render needs, filled by the I/O layer (docs/formats/scene.md).
 
 #include <cstdint>
 #include <memory>
@@ -28,7 +28,7 @@ struct RenderSettings {
   /// View transmittance below which a sample's lights are evaluated only at
   /// random (Russian roulette, volume_march.h); 0 evaluates them always.
   /// Unbiased; 0.25 renders the paper scene 1.8 x faster for 1.5% more noise
-  /// (docs/renderer.md).
+  /// (docs/design/renderer.md).
   float light_roulette = 0.25f;
 };
 

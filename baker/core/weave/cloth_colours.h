@@ -1,6 +1,6 @@
 #pragma once
 /// A cloth without its colours: what a colour-free material is baked from
-/// (docs/material-format.md, "Colour-free parts"). The model is linear in the
+/// (docs/formats/material.md, "Colour-free parts"). The model is linear in the
 /// yarn albedos, so the colours can be applied when the material renders; the
 /// cloth that remains is the geometry, the density and the shading strengths.
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Everything that defines one woven cloth's volume texture (PAPER.md s.2).
 /// Lengths are millimetres of texture space, angles degrees, colours linear
-/// RGB. Every field has the default documented in docs/cloth-spec.md; the I/O
+/// RGB. Every field has the default documented in docs/formats/cloth-spec.md; the I/O
 /// layer fills these structs from JSON, the core never parses.
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-/// How many different places a weave repeat holds (docs/material.md,
+/// How many different places a weave repeat holds (docs/design/material.md,
 /// "The weave's variety"): the distinct neighbourhoods of its crossings. A
 /// material addressed per crossing would store one block of texels per
 /// distinct neighbourhood instead of the whole repeat, so these counts say what
@@ -34,7 +34,7 @@ struct NeighbourhoodCounts {
 };
 
 /// Every crossing of a colour-free cloth sorted into its plus-1 class (the
-/// blocks of a material addressed per crossing, docs/material-format.md,
+/// blocks of a material addressed per crossing, docs/formats/material.md,
 /// "Addressed per crossing"): classes numbered in order of first appearance
 /// (pick-major), each with the first crossing of it as its representative.
 struct CrossingClasses {
@@ -64,7 +64,7 @@ enum class CrossingStencil { Plus1, Square1 };
 /// `phase_bins` > 1 a class also holds one bin of the ply phase (PlyTwist)
 /// of the yarn on top at the crossing's centre, the phase cut into that many
 /// equal bins: the one random draw that shows per pixel at a thread per pixel
-/// or two (docs/material.md, "The per-pixel floor is the ply phase"); the
+/// or two (docs/design/material.md, "The per-pixel floor is the ply phase"); the
 /// representative is then the class's crossing nearest its bin's centre.
 CrossingClasses crossing_classes(const ClothSpec& colour_free_spec,
                                  CrossingStencil stencil = CrossingStencil::Plus1,

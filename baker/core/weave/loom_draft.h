@@ -4,7 +4,7 @@
 /// and treadling, or directly by a liftplan), and whether the listed shafts
 /// rise or sink. The drawdown, the 0/1 interlacing a WeaveDraft holds, follows
 /// from these (drawdown()). Read from a WIF file by io/wif_reader.h; rules in
-/// docs/wif.md.
+/// docs/formats/wif.md.
 
 #include <string>
 #include <vector>

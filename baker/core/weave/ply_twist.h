@@ -5,7 +5,7 @@
 ///
 /// One definition for the generator (which bundle a cell's fibres are in)
 /// and for a material addressed per crossing, whose blocks can be keyed by
-/// the phase at their crossing (CrossingClasses, docs/material.md, "The
+/// the phase at their crossing (CrossingClasses, docs/design/material.md, "The
 /// per-pixel floor is the ply phase"): the phase is the one random draw of
 /// the generator that shows per pixel at a thread per pixel or two.
 

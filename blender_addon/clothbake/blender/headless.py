@@ -57,7 +57,7 @@ def bilinear_patches(obj, levels=PATCH_LEVELS):
     inside a non-planar quad by a sizeable part of a weave repeat (12% RMSE on
     the paper scene). A Simple subdivision (bilinear, UVs linear) samples the
     patch 2^levels times a side: 3.6% between Blender's and clothbake's
-    lookup of the same material at 2 levels (docs/material.md)."""
+    lookup of the same material at 2 levels (docs/design/material.md)."""
     mod = obj.modifiers.new("clothbake bilinear patches", "SUBSURF")
     mod.subdivision_type = "SIMPLE"
     mod.levels = mod.render_levels = levels

@@ -1,4 +1,4 @@
-"""Apply material: a cloth material (docs/material-format.md) on any mesh
+"""Apply material: a cloth material (docs/formats/material.md) on any mesh
 with a UV map, lit live by the scene's sun, point, spot and area lights. The node group
 is the material_nodes package's, the lights and camera reach it through
 material_drivers.py; this module reads what the group needs from the mesh
@@ -280,7 +280,7 @@ def _fill_material_tree(tree, group, uv_name, written=(1.0, 1.0)):
 
 def _depth_note(obj, info, repeats, thickness, scale):
     """The weave's depth in the material against this object's
-    (docs/material-format.md): a note when they differ by more than the
+    (docs/formats/material.md): a note when they differ by more than the
     program's tolerance, else None."""
     # `repeats`: the material's (along u, along v); the geometric mean of
     # the two axes, as object_optics (C++) takes it.

@@ -1,4 +1,4 @@
-"""A colour-free material's yarn colours in Blender (docs/material-format.md,
+"""A colour-free material's yarn colours in Blender (docs/formats/material.md,
 "Colour-free parts"): the object's cloth colours into its node group, live.
 
 Per object the material has two strip images (one per family, its own,

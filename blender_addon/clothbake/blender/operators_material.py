@@ -65,7 +65,7 @@ def _material_job(context):
 def _material_arguments(context, program, scene_path, index, folder):
     settings = context.scene.clothbake
     # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
-    # colours recolour the applied material with no bake (docs/material.md).
+    # colours recolour the applied material with no bake (docs/design/material.md).
     return [program, "material", scene_path, "--object", str(index), "-o", folder,
             *material_arguments(material_values(settings)), "--address",
             settings.material_address, "--parts", "auto", "--threads",

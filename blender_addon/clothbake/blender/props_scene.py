@@ -133,7 +133,7 @@ ClothbakeSceneSettings = type("ClothbakeSceneSettings", (_SceneSettingsMethods,
         "bake_estimate": bpy.props.StringProperty(name="Estimate"),
         "bake_estimate_for": bpy.props.StringProperty(options={"HIDDEN"}),
         "compare_status": bpy.props.StringProperty(name="Last comparison"),
-        # The cloth material (docs/material-format.md): one weave repeat for
+        # The cloth material (docs/formats/material.md): one weave repeat for
         # every view, light and distance, baked from the active cloth object's
         # cloth and applied to any mesh with a UV map. Defaults: the program's.
         "material_dir": bpy.props.StringProperty(

@@ -1,5 +1,5 @@
 """The cloth settings an artist edits in the add-on's panel, as a flat set of
-named fields, and their mapping to and from a cloth spec (docs/cloth-spec.md).
+named fields, and their mapping to and from a cloth spec (docs/formats/cloth-spec.md).
 
 Only part of a cloth spec is exposed (weave, yarns, crimp, fibre spread,
 seed, resolution); everything else (density, shading, an explicit draft) is

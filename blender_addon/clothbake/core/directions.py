@@ -1,5 +1,5 @@
 """View directions of a lookup: the hemi-octahedral and polar K x K grids of
-docs/lookup-format.md, mirrored from baker/core/bake/direction_grid.cpp.
+docs/formats/lookup.md, mirrored from baker/core/geometry/direction_grid.cpp.
 
 Directions are in the local frame (T, B, N) of a surface point and point
 from the surface toward the eye. z >= 0 is the front side (side 0), z < 0 the

@@ -1,6 +1,6 @@
 """Where a quad's texels are, and its local frame: what the Blender layer
 writes onto a mesh and into small images so plain shader nodes can address
-a packed lookup (docs/lookup-format.md, version 2).
+a packed lookup (docs/formats/lookup.md, version 2).
 
 * Per face (FACE-domain attributes, world space): the quad's bilinear patch
   (p0, e, f, g), its UV Jacobian terms (ue, uf, ug) from the weave's UV
@@ -17,7 +17,7 @@ a packed lookup (docs/lookup-format.md, version 2).
 import math
 import struct
 
-# Patch parameters (s, t) of corners 0..3 (docs/lookup-format.md).
+# Patch parameters (s, t) of corners 0..3 (docs/formats/lookup.md).
 CORNER_ST = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
 
 

@@ -1,4 +1,4 @@
-"""Reading a lookup folder's manifest.json (docs/lookup-format.md, version 2).
+"""Reading a lookup folder's manifest.json (docs/formats/lookup.md, version 2).
 
 Checks what clothbake's own reader checks (baker/io/lookup_manifest.cpp), so a
 broken or foreign lookup is refused with the file and field named, before

@@ -1,5 +1,5 @@
 """The few numbers a lookup records of the mesh it was baked from
-(docs/lookup-format.md, `objects[o].mesh`; baker/core/geometry/mesh_summary.h), and
+(docs/formats/lookup.md, `objects[o].mesh`; baker/core/geometry/mesh_summary.h), and
 the comparison with a mesh in Blender: a lookup baked from another mesh with
 the same number of quads, or from this one before it was moved, is refused.
 

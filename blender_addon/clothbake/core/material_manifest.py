@@ -1,4 +1,4 @@
-"""Reading a cloth material folder's manifest.json (docs/material-format.md),
+"""Reading a cloth material folder's manifest.json (docs/formats/material.md),
 checked as far as Blender needs it, beside the lookup's reader
 (core/lookup_manifest.py). The ranges are the program's (core/defaults.py).
 Versions 1 to 3: version 1 is read as parts "rgb"; version 2's colour-free
@@ -53,7 +53,7 @@ class MaterialInfo:
     # a plain weave written over 214 ends and picks).
     written_repeats: tuple = (1.0, 1.0)
     # CROSSINGS only: the colour-free repeat's ends and picks, the blocks
-    # (classes) and the index file (docs/material-format.md, "Addressed per
+    # (classes) and the index file (docs/formats/material.md, "Addressed per
     # crossing"); texels then counts a crossing's side, not the repeat's.
     address: str = REPEAT
     ends: int = 1

@@ -1,4 +1,4 @@
-"""A cloth material (docs/material-format.md) re-packed for Blender's nodes.
+"""A cloth material (docs/formats/material.md) re-packed for Blender's nodes.
 
 clothbake's material stores, per mip level, an atlas with one channel set
 per SVD component (alpha + 3 x max_rank channels) and a light-factor image
@@ -26,7 +26,7 @@ coefficients (`coefficients.exr`, half RGBA):
     whether the view node's ray runs toward + x / + y, so that its next
     colours are the owner + 1's (core/yarn_colours.next_sides).
 
-    A material addressed per crossing (docs/material-format.md, version 3)
+    A material addressed per crossing (docs/formats/material.md, version 3)
     has `blocks` blocks of S x S texels per view node: a tile holds them in
     a grid bx = ceil(sqrt(blocks)) across and by = ceil(blocks / bx) up,
     block b at (b % bx, b // bx), so the tile's pitch is P = bx S + 2
@@ -90,7 +90,7 @@ MAX_SIDE = 16384        # largest texture side Eevee (Mesa llvmpipe) accepts
 SPAN_WIDTH = 8192       # samples per repeat of the span image (unevenly spaced threads)
 
 
-# --- the light grids (baker/core/bake/direction_grid.cpp, in numpy) --------
+# --- the light grids (baker/core/geometry/direction_grid.cpp, in numpy) --------
 
 def _catmull_rom(t):
     t2, t3 = t * t, t * t * t
@@ -304,7 +304,7 @@ def _place_level(coeff, info, pack, level, coeff_next=None):
     alpha = px[..., _channel(names, "A", path)]
     # (2K rows of tiles, blocks, S, K columns, S) -> [row, col, block, ty,
     # tx], rows top-down in the file; block b of a view node's tile is its
-    # rows b S .. b S + S - 1 (docs/material-format.md).
+    # rows b S .. b S + S - 1 (docs/formats/material.md).
     a_t = alpha.reshape(2 * k, nb, s, k, s).transpose(0, 3, 1, 2, 4)
     # (2K, K, blocks, S, S, 2): each view node's next sides over its whole tile
     sides = np.broadcast_to(next_sides(k)[:, :, None, None, None, :], (2 * k, k, nb, s, s, 2))

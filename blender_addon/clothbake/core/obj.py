@@ -1,5 +1,5 @@
 """Wavefront OBJ of quads with UVs, read and written the way clothbake's
-reader (baker/io/obj_reader.cpp, docs/scene-format.md "Meshes") does, so
+reader (baker/io/obj_reader.cpp, docs/formats/scene.md "Meshes") does, so
 face q in Blender is quad q of the lookup.
 
 The Blender add-on reads OBJ itself rather than through Blender's importer

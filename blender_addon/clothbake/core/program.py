@@ -63,7 +63,7 @@ def run_job(args):
 
 
 def clean_after_kill(out_dir, pid):
-    """What a killed job may leave (docs/lookup-format.md "Folder layout"):
+    """What a killed job may leave (docs/formats/lookup.md "Folder layout"):
     its temporary folder, or an old folder half swapped out."""
     temp, old = folder_siblings(out_dir, pid)
     shutil.rmtree(temp, ignore_errors=True)

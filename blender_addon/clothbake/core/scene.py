@@ -1,4 +1,4 @@
-"""clothbake scene JSON (docs/scene-format.md) as the add-on needs it: read
+"""clothbake scene JSON (docs/formats/scene.md) as the add-on needs it: read
 with clear errors, the camera and lights converted to Blender's
 conventions, and written back for export.
 
@@ -28,7 +28,7 @@ _MAX_SAMPLES = 65536
 _MAX_SEED = 2**31 - 1  # what a Blender IntProperty holds
 
 # Blender's point light: a lamp of power P watts has radiant intensity
-# P / (4 pi) W/sr in Cycles, measured (scripts/blender/light_units.py: 1 W at
+# P / (4 pi) W/sr in Cycles, measured (lab/light_units/light_units.py: 1 W at
 # 1 unit gives irradiance 0.0796 = 1/(4 pi) on a white plane). So clothbake's
 # point intensity I (irradiance at distance 1) needs P = 4 pi I watts. A
 # white plane's radiance is P / (4 pi^2); reading that as irradiance is the
@@ -41,7 +41,7 @@ POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi
 SPOT_WATTS_PER_INTENSITY = POINT_WATTS_PER_IRRADIANCE
 # An area light of P watts and area A (its sizes times the object's scale)
 # has radiance P / (4 A) in Cycles 3.4, measured on every shape
-# (scripts/blender/spot_area_units.py): not P / (pi A). clothbake's area
+# (lab/light_units/spot_area_units.py): not P / (pi A). clothbake's area
 # intensity is radiance x area, so P = 4 I.
 AREA_WATTS_PER_INTENSITY = 4.0
 
@@ -190,7 +190,7 @@ def _object(oj, where, folder, path):
         raise ClothbakeError("must be the path of an OBJ file", path, where + ".mesh")
     obj["mesh_path"] = os.path.normpath(os.path.join(folder, mesh))
     if "volume" in oj:
-        # A texture read from a VDB (docs/scene-format.md): kept as a path
+        # A texture read from a VDB (docs/formats/scene.md): kept as a path
         # and written back on export; the cloth spec still gives the fibre
         # model. The program reads and checks the file when it renders.
         volume = oj["volume"]

@@ -1,4 +1,4 @@
-"""Export: a clothbake scene (docs/scene-format.md) built from plain data
+"""Export: a clothbake scene (docs/formats/scene.md) built from plain data
 (world matrices, lens and sensor, light energies, quad meshes), the inverse
 of clothbake.core.scene's blender_camera / blender_light, and written to
 disk atomically. Whether a scene file still describes a Blender scene is

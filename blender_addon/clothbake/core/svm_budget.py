@@ -4,7 +4,7 @@ runs out of its SVM stack.
 Cycles compiles a shader's nodes into a program for its SVM (shader virtual
 machine) that keeps every value on a stack of 255 floats until its last
 reader has run. The material's group reads each light at every component
-(docs/material.md, "Lights and the SVM stack"), so each light holds about
+(docs/design/material.md, "Lights and the SVM stack"), so each light holds about
 ten floats of that stack for the whole shader: past the limit Cycles prints
 "out of SVM stack space, shader ... too big" and renders the cloth black,
 with nothing in Blender's interface to say why. Eevee and Material Preview
@@ -27,7 +27,7 @@ the world compiled at a peak of 244 floats, 13 and the world overflowed
 # Peak stack, colour-free, exact: 60 floats at 1 term, 130 at 8, 167 at 12,
 # 207 at 16, 246 at 20, overflow at 21; cycles-lit 253 at 14, overflow at
 # 15. RGB: exact 230 at 20, cycles-lit 226 at 14, and overflow at 21 and 15
-# all the same. scripts/dev/svm_limits.sh measures every edge again.
+# all the same. lab/svm_limits/svm_limits.sh measures every edge again.
 LIGHT_TERM_LIMIT = {
     (True, "exact"): 20,
     (True, "cycles-lit"): 14,
@@ -63,4 +63,4 @@ def stack_note(kinds, colour_free, route):
             f"{route} route Cycles runs out of its shader stack ('out of SVM stack space' "
             "in the console) and renders the cloth black; delete lights the cloth can do "
             "without (hidden ones still count) and Apply material again "
-            "(docs/material.md, 'Lights and the SVM stack')")
+            "(docs/design/material.md, 'Lights and the SVM stack')")

@@ -1,7 +1,7 @@
 """A cloth woven from a WIF draft (a weaver's own draft file, the format
 weaving programs share), as the panel shows and edits it:
 the program's reading of the draft (`clothbake draft INPUT -o DIR` writes
-DIR/draft.json, /work/wif_interface.md), its drawdown as preview pixels, the
+DIR/draft.json, docs/formats/wif.md), its drawdown as preview pixels, the
 palette of distinct colours an artist edits, and the inline spec export writes
 once something is edited.
 

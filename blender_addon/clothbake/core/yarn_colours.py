@@ -1,5 +1,5 @@
 """The yarn colours a colour-free material renders with
-(docs/material-format.md, "Colour-free parts"), in numpy, as the program's
+(docs/formats/material.md, "Colour-free parts"), in numpy, as the program's
 core/material/yarn_colours.h makes them: per mip level, the warp colour of
 every texel column and the weft colour of every texel row, over the colours'
 own repeat (q material repeats when a per-thread colour sequence does not

@@ -17,7 +17,7 @@ using Imath::V3f;
 constexpr uint64_t k_budget = uint64_t(1) << 32;
 
 /// The homogeneous isotropic slab of renderer_test.cpp: radiance known in
-/// closed form for every view direction (docs/slab-analytic.md).
+/// closed form for every view direction (docs/design/slab-analytic.md).
 Scene slab_scene() {
   Scene scene;
   ClothObject obj;

@@ -1,5 +1,5 @@
 // Measures the interpolation error of the two direction maps by elevation,
-// the figures behind the choice of the lookup's map (docs/lookup-format.md,
+// the figures behind the choice of the lookup's map (docs/formats/lookup.md,
 // "Why hemi-octahedral"), and holds the two facts they show: a function
 // of elevation alone (the slab: see-through and path length, steep toward
 // grazing) is interpolated better by the polar map in every band, and an

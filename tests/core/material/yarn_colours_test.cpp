@@ -1,4 +1,4 @@
-// Colour-free materials (docs/material-format.md, "Colour-free parts"): the
+// Colour-free materials (docs/formats/material.md, "Colour-free parts"): the
 // colour strips' exact values and box averages, the colour-free cloth and the
 // field a difference names, and the linearity the whole scheme rests on.
 #include "core/material/yarn_colours.h"

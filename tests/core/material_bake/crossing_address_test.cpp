@@ -1,5 +1,5 @@
 // A material addressed per crossing (settings.address = Crossings,
-// docs/material-format.md "Addressed per crossing"): one block of texels per
+// docs/formats/material.md "Addressed per crossing"): one block of texels per
 // plus-1 class of crossings, read through the per-crossing index.
 //  - the classes of named weaves, counted by hand, agree with the counts
 //    `clothbake draft` reports;

@@ -455,7 +455,7 @@ TEST(Material, RankMeetsMaxError) {
   }
 }
 
-// The homogeneous isotropic slab has a closed form (docs/slab-analytic.md):
+// The homogeneous isotropic slab has a closed form (docs/design/slab-analytic.md):
 // radiance per unit irradiance 0.8/(4 pi) * 2 mu_l / (mu_l + mu_v) *
 // (1 - exp(-tau0 (1/mu_v + 1/mu_l))) seen from the lit side. The material
 // reproduces it at its nodes (march noise: step 0.1 cell, 2 samples).
@@ -594,7 +594,7 @@ TEST(MaterialShader, RefusesAnotherThicknessExtinctionOrShading) {
 namespace clothbake {
 namespace {
 
-// Stability (docs/stability.md): grazing light is the material's failure
+// Stability (docs/design/stability.md): grazing light is the material's failure
 // regime. Interpolating between light nodes (Catmull-Rom, KL = 8) is held to
 // a march with the exact light direction, per elevation above the surface,
 // on the repeat's average (the 1 x 1 level) seen from a node near the

@@ -58,7 +58,7 @@ V3f direction(double theta_deg, double phi_deg) {
 /// Single scattering from a homogeneous slab of optical depth tau0, isotropic
 /// phase 1/(4 pi), albedo a, irradiance E from direction mu_l (> 0: the lit
 /// side is the viewed side, < 0: lit from behind), seen at mu_v > 0
-/// (docs/slab-analytic.md).
+/// (docs/design/slab-analytic.md).
 double slab_radiance(double a, double E, double tau0, double mu_v, double mu_l) {
   const double p = 1.0 / (4.0 * k_pi);
   if (mu_l > 0)

@@ -1,4 +1,4 @@
-// The loom's drawdown rules (core/weave/loom_draft.h, docs/wif.md).
+// The loom's drawdown rules (core/weave/loom_draft.h, docs/formats/wif.md).
 
 #include "core/weave/loom_draft.h"
 

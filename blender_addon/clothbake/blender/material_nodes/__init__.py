@@ -1,4 +1,4 @@
-"""The cloth material's node group (docs/material-format.md), plain nodes
+"""The cloth material's node group (docs/formats/material.md), plain nodes
 that Cycles, Eevee and the viewport's Material Preview all run. Nothing is
 stored per face but the UV map's local scale (an attribute read for the
 level). Per shading point the group computes, one module a step (build.py

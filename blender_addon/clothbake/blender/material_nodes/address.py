@@ -55,7 +55,7 @@ def texel_address(g, gin, pack, k, view, level, xi_x, xi_y, shift=None):
 def crossing_address(g, gin, info, pack, view, level, xi_x, xi_y, index_image, shift=None,
                       span_image=None):
     """Steps 2 and 4 for a material addressed per crossing
-    (docs/material-format.md, "Addressed per crossing"): every crossing
+    (docs/formats/material.md, "Addressed per crossing"): every crossing
     spans S_L texels whatever its width, the stochastic bilinear pick is a
     tap counted in crossings and texels over all repeats, and the tap's
     crossing (wrapped into the repeat) reads its block from the index image

@@ -78,7 +78,7 @@ def _yarn_colours(g, gin, family, place, plus, image, rows, levels, col):
 def coloured(g, gin, sums, places, sides, strips, levels, col):
     """Colour-free sums [S, W, F, Wn, Fn] per accumulator into radiance:
     S + W c_warp + F c_weft + Wn c_warp_next + Fn c_weft_next
-    (docs/material-format.md), channel by channel, so a coloured light's
+    (docs/formats/material.md), channel by channel, so a coloured light's
     W_k stays RGB throughout."""
     warp, warp_next = _yarn_colours(g, gin, "Warp", places[0], sides[0], strips.warp,
                                     strips.rows_warp, levels, col)
