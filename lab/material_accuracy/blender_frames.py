@@ -31,7 +31,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import addon_utils  # noqa: E402
 
 addon_utils.enable("clothbake", default_set=True, handle_error=None)
-from clothbake.blender.headless import bilinear_patches, use_eevee  # noqa: E402
+from clothbake.blender.headless import bilinear_patches
+    from clothbake.blender.render_engines import use_eevee  # noqa: E402
 from clothbake.blender.material_apply import apply_material  # noqa: E402
 from clothbake.blender.scene_import import import_scene  # noqa: E402
 

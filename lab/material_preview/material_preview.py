@@ -47,7 +47,8 @@ def save_render(path):
 def setup():
     import addon_utils
     addon_utils.enable("clothbake", default_set=True)
-    from clothbake.blender.headless import bilinear_patches, use_eevee
+    from clothbake.blender.headless import bilinear_patches
+    from clothbake.blender.render_engines import use_eevee
     from clothbake.blender.material_apply import apply_material
     from clothbake.blender.scene_import import import_scene
     objects = import_scene(SCENE, clear=True, samples=SAMPLES)

@@ -137,7 +137,7 @@ def main():
     sheet += [ref, got.image]
 
     # Eevee (the GPU textures of the strips and the inputs) follows too.
-    from clothbake.blender.headless import use_eevee
+    from clothbake.blender.render_engines import use_eevee
     scene = bpy.context.scene
     use_eevee(scene, 16)
     e1 = render_still(os.path.join(TMP, "eevee_before.exr"), 1)
@@ -268,7 +268,7 @@ def addressed_per_crossing(import_scene, bilinear_patches, apply_material, read_
     sheet += [ref2, got2.image]
     # Eevee reads the same images (its GPU textures: the index and the
     # blocks' grid within its limits).
-    from clothbake.blender.headless import use_eevee
+    from clothbake.blender.render_engines import use_eevee
     scene_bpy = bpy.context.scene
     use_eevee(scene_bpy, 16)
     eevee = render_still(os.path.join(TMP, "addressed_eevee.exr"), 1)

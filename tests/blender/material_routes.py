@@ -119,7 +119,6 @@ def eevee_pair(name, use_eevee):
     noise comes from SPP against 2 SPP samples (the difference has variance
     sigma^2 (1 + 1/2), so sigma = d / sqrt(1.5)). Leaves Eevee on."""
     scene = bpy.context.scene
-    scene.render.engine = "BLENDER_EEVEE"
     use_eevee(scene, SPP)
     a = render_still(os.path.join(TMP, f"{name}.exr"), 1)
     use_eevee(scene, 2 * SPP)
@@ -130,7 +129,8 @@ def eevee_pair(name, use_eevee):
 def main():
     enable_addon()
     from clothbake.blender.material_apply import apply_material
-    from clothbake.blender.headless import bilinear_patches, use_eevee
+    from clothbake.blender.headless import bilinear_patches
+    from clothbake.blender.render_engines import use_eevee
     from clothbake.blender.scene_import import import_scene
     from clothbake.core.errors import ClothbakeError
 

@@ -212,7 +212,7 @@ def clockwise_rotated(u, v):      # rotate 90, then mirror: the transpose
 
 def main():
     enable_addon()
-    from clothbake.blender.headless import use_eevee
+    from clothbake.blender.render_engines import use_eevee
     from clothbake.blender.material_apply import apply_material, world_per_uv
     from clothbake.blender.scene_export_bpy import export_scene
     from clothbake.blender.scene_import import import_scene

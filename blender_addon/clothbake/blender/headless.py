@@ -26,6 +26,7 @@ from ..core.errors import ClothbakeError
 from ..core.material_pack import is_material_folder
 from .lookup_apply import apply_lookup
 from .material_apply import apply_material
+from .render_engines import use_eevee
 from .scene_import import import_scene
 
 
@@ -36,16 +37,6 @@ def _write_atomic_render(path, scene):
     tmp = os.path.join(folder, f".{os.path.basename(path)}.tmp-{os.getpid()}.exr")
     bpy.data.images["Render Result"].save_render(tmp, scene=scene)
     os.replace(tmp, path)
-
-
-def use_eevee(scene, samples):
-    """Eevee set up like set_render_settings' Cycles: the same film, box
-    filter one pixel wide, `samples` anti-aliasing samples."""
-    scene.render.engine = "BLENDER_EEVEE"
-    e = scene.eevee
-    e.taa_render_samples = samples
-    e.use_gtao = e.use_bloom = e.use_ssr = False
-    scene.render.filter_size = 1.0
 
 
 PATCH_LEVELS = 3

@@ -5,7 +5,9 @@ import shutil
 
 import bpy
 
-ADDON_NAME = __package__.split(".")[0]  # "clothbake"
+# The add-on's module: "clothbake" installed from a zip, or
+# "bl_ext.REPOSITORY.clothbake" installed as an extension (4.2+).
+ADDON_NAME = __package__.rsplit(".", 1)[0]
 
 
 def default_program():

@@ -18,12 +18,30 @@ def _modules():
 
 
 def register():
+    """Registers every module's classes, or none: should one fail, what was
+    registered before it is unregistered again, so that a failed enable
+    leaves no half-registered add-on behind."""
     import bpy
-    for mod in _modules():
-        for cls in getattr(mod, "CLASSES", ()):
-            bpy.utils.register_class(cls)
-        if hasattr(mod, "register_extra"):
-            mod.register_extra()
+    done = []  # (module, classes registered) in order
+    try:
+        for mod in _modules():
+            classes = []
+            done.append((mod, classes))
+            for cls in getattr(mod, "CLASSES", ()):
+                bpy.utils.register_class(cls)
+                classes.append(cls)
+            if hasattr(mod, "register_extra"):
+                mod.register_extra()
+    except Exception:
+        for mod, classes in reversed(done):
+            if hasattr(mod, "unregister_extra"):
+                try:
+                    mod.unregister_extra()
+                except Exception:  # its register_extra may not have run
+                    pass
+            for cls in reversed(classes):
+                bpy.utils.unregister_class(cls)
+        raise
 
 
 def unregister():
