@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # CTest blender.addon_install: scripts/package-addon.sh builds the add-on zip
 # (checked: the clothbake/ folder, no __pycache__, same bytes twice), and
-# headless Blender 3.4 installs it through Preferences > Add-ons > Install
-# into a temporary BLENDER_USER_SCRIPTS and enables it (addon_install.py).
+# headless Blender installs it through Preferences > Add-ons > Install
+# into a temporary BLENDER_USER_SCRIPTS and enables it; from 4.2 the
+# extension too, built and validated by that Blender (addon_install.py).
 #
 #   bash run_addon_install.sh SOURCE_DIR [BLENDER_EXE]
 set -u
@@ -34,10 +35,19 @@ assert not any("__pycache__" in n or n.endswith(".pyc") for n in names), names
 print(f"zip: {len(names)} files under clothbake/")
 PY
 
-mkdir -p "$tmp/user_scripts" "$tmp/user_config"
+extension=()
+version=$("$blender" --version 2>/dev/null | sed -n 's/^Blender \([0-9][0-9.]*\).*/\1/p' | head -1)
+if [[ $(printf '%s\n4.2\n' "$version" | sort -V | head -1) == 4.2 ]]; then
+  bash "$source/scripts/package-addon.sh" -o "$tmp/c.zip" --extension "$tmp/ext" --blender "$blender" ||
+    fail "package-addon.sh --extension failed"
+  extension=("$(ls "$tmp"/ext/clothbake-*.zip)")
+fi
+
+mkdir -p "$tmp/user_scripts" "$tmp/user_config" "$tmp/user_extensions"
 BLENDER_USER_SCRIPTS="$tmp/user_scripts" BLENDER_USER_CONFIG="$tmp/user_config" \
+  BLENDER_USER_EXTENSIONS="$tmp/user_extensions" \
   "$blender" -b --factory-startup --python-exit-code 1 \
-  -P "$here/addon_install.py" -- "$tmp/a.zip" "$tmp/user_scripts" >"$tmp/blender.log" 2>&1
+  -P "$here/addon_install.py" -- "$tmp/a.zip" "$tmp/user_scripts" "${extension[@]}" >"$tmp/blender.log" 2>&1
 rc=$?
 grep -v -E '^$' "$tmp/blender.log"
 [ "$rc" -eq 0 ] || fail "add-on install checks failed (exit status $rc; see above)"
