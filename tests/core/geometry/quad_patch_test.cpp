@@ -7,6 +7,7 @@
 // 1e-6 for orthonormality) leave a margin of 10x or more, yet a wrong formula
 // (swapped corners, a missed root, a wrong scale) misses them by orders.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 

@@ -1,5 +1,6 @@
 #include "core/texture/volume_generator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
