@@ -23,13 +23,13 @@ def requirements_missing():
     """The sentence saying what this Blender lacks, or None. Checked before
     any of the add-on's modules is imported, so that nothing is registered
     when it fails."""
-    import importlib.util
-
     import bpy
     if tuple(bpy.app.version) < MIN_BLENDER:
         return (f"clothbake needs Blender {'.'.join(map(str, MIN_BLENDER))} or newer; this is "
                 f"{bpy.app.version_string}: install a newer Blender (Debian 12 and later ship one)")
-    if importlib.util.find_spec("numpy") is None:
+    try:
+        import numpy  # noqa: F401  (the add-on's modules import it at load)
+    except ImportError:
         return ("clothbake needs numpy, which this Blender's Python cannot import: install it "
                 "(Debian and Ubuntu: apt install python3-numpy; Blender from blender.org "
                 "bundles it) and enable the add-on again")

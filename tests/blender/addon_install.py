@@ -11,8 +11,10 @@ nothing registered.
 - EXTENSION_ZIP (Blender 4.2 and newer): the extension installed into the
   user's extension repository (BLENDER_USER_EXTENSIONS points into the test's
   folder), as bl_ext.user_default.clothbake.
-- Without numpy (blocked for this check) and with a registration that fails
-  half-way, enabling fails and leaves no class or property behind.
+- Without numpy (blocked for this check), on a Blender older than the
+  minimum (raised for this check) and with a registration that fails
+  half-way, enabling fails with one sentence and leaves no class or property
+  behind.
 
 Run by run_addon_install.sh.
 """
@@ -80,6 +82,20 @@ message = str(error) if error else ""
 check(error is not None and "numpy" in message and "python3-numpy" in message and "\n" not in message,
       f"without numpy: one sentence ({message})")
 check(registered_nothing(), "without numpy: nothing registered")
+addon_utils.disable("clothbake", default_set=True, handle_error=None)
+drop_modules("clothbake")
+
+# A Blender older than the add-on supports (its minimum raised past this
+# one's for the check): one sentence naming the version, nothing registered.
+import clothbake  # noqa: E402  (the zip's copy, not enabled yet)
+clothbake.MIN_BLENDER = (bpy.app.version[0] + 1, 0, 0)
+clothbake.__time__ = os.path.getmtime(clothbake.__file__)  # else enable reloads it
+error = enable_error("clothbake")
+message = str(error) if error else ""
+check(error is not None and f"needs Blender {bpy.app.version[0] + 1}.0.0 or newer" in message
+      and bpy.app.version_string in message and "\n" not in message,
+      f"too old a Blender: one sentence ({message})")
+check(registered_nothing(), "too old a Blender: nothing registered")
 addon_utils.disable("clothbake", default_set=True, handle_error=None)
 drop_modules("clothbake")
 
