@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/setting_flags.h"
@@ -273,14 +274,14 @@ void register_bake_command(CLI::App& app, Action action) {
                 "derive quads, texels and directions from the scene's camera");
   cmd->add_option("--directions", args->settings.directions,
                   "K: direction nodes per side of each hemisphere")
-      ->check(CLI::Range(k_min_directions, k_max_directions));
+      ->check(in_range(k_min_directions, k_max_directions));
   cmd->add_option("--texels", args->settings.texels, "R: texels per quad side (full bake)")
-      ->check(CLI::Range(k_min_texels, k_max_texels));
+      ->check(in_range(k_min_texels, k_max_texels));
   cmd->add_option("--spp", args->settings.spp, "jittered sub-texel samples per texel")
-      ->check(CLI::Range(k_min_bake_spp, k_max_bake_spp));
+      ->check(in_range(k_min_bake_spp, k_max_bake_spp));
   cmd->add_option("--texels-per-pixel", args->settings.texels_per_pixel,
                   "adaptive: texels per projected pixel")
-      ->check(CLI::Range(0.01, double(k_max_texels_per_pixel)));
+      ->check(in_range(0.01, double(k_max_texels_per_pixel)));
   cmd->add_option("--direction-map", args->map,
                   "layout of the direction nodes (docs/formats/lookup.md)")
       ->check(CLI::IsMember({"polar", "hemi-octahedral"}));
@@ -289,7 +290,7 @@ void register_bake_command(CLI::App& app, Action action) {
                   "I/N: bake part I (from 1) of N, every N-th quad, for merge (docs/guide/farm.md)");
   cmd->add_option("--seed", args->settings.seed, "seed of the sub-texel jitter");
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(in_range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--estimate", args->estimate,

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "core/util/error.h"
 #include "io/image_compare.h"
@@ -91,7 +92,7 @@ void register_compare_command(CLI::App& app, Action action) {
   cmd->add_option("--downsample", args->downsample,
                   "box-average by N x N pixels before comparing (an image already N times "
                   "smaller is taken as is)")
-      ->check(CLI::Range(1, 64));
+      ->check(in_range(1, 64));
   cmd->callback([args, action] {
     if (action == Action::Run) run_compare(*args);
   });

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "core/util/error.h"
 #include "core/weave/crossing_neighbourhoods.h"
@@ -129,7 +130,7 @@ void register_draft_command(CLI::App& app, Action action) {
   cmd->add_option("-o,--out", args->out_dir, "output folder")->required();
   cmd->add_option("--block", args->block,
                   "pixels per crossing in drawdown.png (0 = fit the repeat in about 768)")
-      ->check(CLI::Range(0, 64));
+      ->check(in_range(0, 64));
   cmd->callback([args, action] {
     if (action == Action::Run) run_draft(*args);
   });

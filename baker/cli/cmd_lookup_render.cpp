@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "core/util/hex.h"
 #include "cli/memory_budget.h"
@@ -167,20 +168,20 @@ void register_lookup_render_command(CLI::App& app, Action action) {
   cmd->add_option("-o,--out", args->out_exr, "output EXR (linear RGBA, float)")->required();
   cmd->add_option("--png", args->out_png, "also write an sRGB PNG preview");
   cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene)")
-      ->check(CLI::Range(1, 65536));
+      ->check(in_range(1, 65536));
   cmd->add_option("--seed", args->seed,
                   "seed of the pixel sampling (default: the scene's); the bake's seed is its own")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--footprint-scale", args->footprint_scale,
                   "material only: the lookup's footprint relative to the pixel's stratum (pixel / sqrt(spp))")
-      ->check(CLI::Range(0.0, 16.0))
+      ->check(in_range(0.0, 16.0))
       ->capture_default_str();
   cmd->add_option("--light-filter", args->light_filter,
                   "material only: interpolation between light nodes")
       ->check(CLI::IsMember({"catmull-rom", "bilinear"}))
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(in_range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->callback([args, action] {

@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "cli/material_options.h"
 #include "cli/memory_budget.h"
@@ -147,7 +148,7 @@ void register_material_command(CLI::App& app, Action action) {
                   "the scene object whose cloth to bake, by name or index (default: the first)");
   cmd->add_option("--seed", args->seed, "seed of the texel samples")->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(in_range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_option("--parts", args->parts,
                   "what the table stores: colour-free parts that take the yarn colours when "

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "cli/memory_budget.h"
 #include "cli/thread_limit.h"
@@ -88,9 +89,9 @@ void register_render_command(CLI::App& app, Action action) {
   cmd->add_option("-o,--out", args->out_exr, "output EXR (linear RGBA, float)")->required();
   cmd->add_option("--png", args->out_png, "also write an sRGB PNG preview");
   cmd->add_option("--spp", args->spp, "samples per pixel (overrides the scene)")
-      ->check(CLI::Range(1, 65536));
+      ->check(in_range(1, 65536));
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(in_range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->add_flag("--quiet", args->quiet, "no progress bar");
   cmd->add_flag("--stats", args->stats_json, "print timing statistics as JSON on stdout");

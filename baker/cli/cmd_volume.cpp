@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "core/util/hex.h"
 #include "cli/memory_budget.h"
@@ -192,7 +193,7 @@ void register_volume_command(CLI::App& app, Action action) {
   cmd->add_option("input", args->input, "cloth spec or scene JSON, or a WIF draft")->required();
   cmd->add_option("-o,--out", args->out_dir, "output folder")->required();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(in_range(0, 4096));
   add_memory_option(cmd, args->memory_gib);
   cmd->callback([args, action] {
     if (action == Action::Run) run_volume(*args);

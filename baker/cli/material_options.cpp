@@ -4,6 +4,7 @@
 #include <map>
 #include <string>
 
+#include "cli/option_range.h"
 #include "io/enum_names.h"
 
 namespace clothbake::cli {
@@ -33,21 +34,21 @@ void add_everyday_options(CLI::App* cmd, MaterialSettings& s) {
       },
       "POWER OF 2");
   cmd->add_option("--texels", s.texels, "R: texels per repeat side, a power of 2")
-      ->check(CLI::Range(k_min_material_texels, k_max_material_texels) & power_of_two)
+      ->check(in_range(k_min_material_texels, k_max_material_texels) & power_of_two)
       ->capture_default_str();
   cmd->add_option("--directions", s.directions, "K: view nodes per side of each hemisphere")
-      ->check(CLI::Range(k_min_material_directions, k_max_material_directions))
+      ->check(in_range(k_min_material_directions, k_max_material_directions))
       ->capture_default_str();
   cmd->add_option("--light-directions", s.light_directions,
                   "KL: light nodes per side of each hemisphere")
-      ->check(CLI::Range(k_min_material_directions, k_max_material_directions))
+      ->check(in_range(k_min_material_directions, k_max_material_directions))
       ->capture_default_str();
   cmd->add_option("--spp", s.spp, "samples per texel and view node")
-      ->check(CLI::Range(k_min_material_spp, k_max_material_spp))
+      ->check(in_range(k_min_material_spp, k_max_material_spp))
       ->capture_default_str();
   cmd->add_option("--max-error", s.max_error,
                   "per view node: relative RMSE the factorisation may leave (0 = exact)")
-      ->check(CLI::Range(k_min_material_error, k_max_material_error))
+      ->check(in_range(k_min_material_error, k_max_material_error))
       ->capture_default_str();
   add_enum_option(cmd, "--address", s.address, io::k_material_address_names,
                   "what the texels cover: the whole repeat (--texels per repeat side), or one "
@@ -68,7 +69,7 @@ void add_expert_options(CLI::App* cmd, MaterialSettings& s) {
       },
       "0 OR RANGE");
   cmd->add_option("--field-supersample", s.field_supersample, "light-field points per cell edge")
-      ->check(CLI::Range(k_min_field_supersample, k_max_field_supersample))
+      ->check(in_range(k_min_field_supersample, k_max_field_supersample))
       ->capture_default_str();
   add_enum_option(cmd, "--light-map", s.light_map, io::k_light_map_flags,
                   "light nodes: drawn toward the horizon, or the plain hemi-octahedral square");
@@ -84,7 +85,7 @@ void add_expert_options(CLI::App* cmd, MaterialSettings& s) {
   cmd->add_option("--context", s.context,
                   "--address crossings: crossings either side of a block's that its light "
                   "fields span")
-      ->check(CLI::Range(k_min_material_context, k_max_material_context))
+      ->check(in_range(k_min_material_context, k_max_material_context))
       ->capture_default_str();
   add_enum_option(cmd, "--stencil", s.stencil, io::k_crossing_stencil_names,
                   "--address crossings: what makes two crossings one block: their plus-1 "
@@ -94,14 +95,14 @@ void add_expert_options(CLI::App* cmd, MaterialSettings& s) {
                   "--address crossings: crossings of each class a block averages, spread over "
                   "the class (1: its first crossing alone; more average the crossings' own "
                   "randomness, at that many times the bake)")
-      ->check(CLI::Range(k_min_material_members, k_max_material_members))
+      ->check(in_range(k_min_material_members, k_max_material_members))
       ->capture_default_str();
   cmd->add_option("--phase-bins", s.phase_bins,
                   "--address crossings: bins of the ply phase of the yarn on top at a "
                   "crossing, each its own block (about that many times the blocks): the "
                   "generator's per-yarn random phase, which shows per pixel at a thread per "
                   "pixel or two; 1: not in the classes")
-      ->check(CLI::Range(k_min_phase_bins, k_max_phase_bins))
+      ->check(in_range(k_min_phase_bins, k_max_phase_bins))
       ->capture_default_str();
   cmd->add_option("--fiber-tangent-nodes", s.fiber_tangent_nodes,
                   "fibre response tabulated over N x N tangents per view node (0: exact per cell)")

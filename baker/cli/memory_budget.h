@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/option_range.h"
 #include "io/system_info.h"
 
 namespace clothbake::cli {
@@ -17,7 +18,7 @@ inline constexpr double kMaxMemoryGib = double(1u << 20);  // 1 PiB
 inline void add_memory_option(CLI::App* cmd, double& memory_gib) {
   cmd->add_option("--memory-gib", memory_gib,
                   "memory budget in GiB (default: 3/4 of physical memory)")
-      ->check(CLI::Range(0.0, kMaxMemoryGib));
+      ->check(in_range(0.0, kMaxMemoryGib));
 }
 
 inline uint64_t memory_budget_bytes(double memory_gib) {
