@@ -90,8 +90,7 @@ def viewport_render():
         result = bpy.ops.render.opengl(view_context=True)
     print(f"viewport render: {result} {time.time() - t:.1f} s", flush=True)
     save_render(os.path.join(OUT, "preview.exr"))
-    with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
-        bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "preview_window.png"))
+    window.screenshot(os.path.join(OUT, "preview_window.png"))
 
 
 STEPS = [setup, f12, material_preview, ("wait", compiled, 120), viewport_render]

@@ -61,8 +61,7 @@ def shot(name, newest_window=False):
         if newest_window and area.type == "IMAGE_EDITOR":
             with bpy.context.temp_override(window=win, area=area, region=region(area)):
                 bpy.ops.image.view_all(fit_view=True)
-    with bpy.context.temp_override(window=win, area=win.screen.areas[0]):
-        bpy.ops.screen.screenshot(filepath=os.path.join(OUT, name + ".png"))
+    window.screenshot(os.path.join(OUT, name + ".png"))
 
 
 def in_properties(op, *args, **kwargs):

@@ -94,7 +94,11 @@ def blender_grids(vdb_path, cells, size):
             check(types[name] == want, "Blender grid %s data_type %s == %s" % (name, types[name], want))
     d = [s / n for s, n in zip(size, cells)]
     for g in vol.grids:
-        check(g.load() and g.is_loaded, "Blender loads voxels of grid %s" % g.name)
+        # load() says whether the voxels were read. is_loaded stays True
+        # after it on 3.4 only: 4.3 and 5.2 keep grids in a shared cache and
+        # report False there (the bounds below need the voxels either way).
+        check(g.load() and (g.is_loaded or bpy.app.version >= (4, 0, 0)),
+              "Blender loads voxels of grid %s" % g.name)
         m = g.matrix_object
         err = max(abs(m[r][c] - (d[r] if r == c else 0.0)) for r in range(3) for c in range(3))
         err = max([err] + [abs(m[r][3] - d[r] / 2) for r in range(3)])

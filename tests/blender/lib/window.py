@@ -92,3 +92,36 @@ def cleared(setting):
         return not getattr(bpy.context.scene.clothbake, setting)
     done.__name__ = f"{setting} off"
     return done
+
+
+def screenshot(path, win=None, area=None, checked=True):
+    """What the X display shows, as a PNG at `path`: the whole screen, or
+    `area` of the window `win`. Taken from the X server (xwd, netpbm's
+    xwdtopnm, OpenImageIO) rather than by Blender's screenshot operators,
+    which read the window's front buffer: under Xvfb that reads black on
+    4.3 and 5.2 while the window draws. With `checked`, a shot with no
+    contrast at all is a failed check (a window that drew nothing). Returns
+    the path."""
+    import subprocess
+
+    import numpy as np
+    import OpenImageIO as oiio
+    xwd = subprocess.run(["xwd", "-root", "-silent"], capture_output=True, check=True).stdout
+    pnm = subprocess.run(["xwdtopnm"], input=xwd, capture_output=True, check=True).stdout
+    raw = path + ".pnm"
+    with open(raw, "wb") as f:
+        f.write(pnm)
+    image = oiio.ImageBuf(raw)
+    if area is not None:
+        # Blender's area rectangles count from the window's bottom-left
+        # corner; the X screen's rows from its top. The window is placed at
+        # the screen's origin by Xvfb.
+        top = win.height - (area.y + area.height)
+        roi = oiio.ROI(area.x, area.x + area.width, top, top + area.height)
+        image = oiio.ImageBufAlgo.cut(image, roi)
+    image.write(path)
+    os.remove(raw)
+    spread = float(np.asarray(image.get_pixels(oiio.FLOAT))[..., :3].std())
+    if checked:
+        check(spread > 0.01, f"screenshot {os.path.basename(path)} shows the window (spread {spread:.3f})")
+    return path
