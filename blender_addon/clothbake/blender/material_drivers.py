@@ -180,7 +180,7 @@ def drive_world(node, scene):
                          "material again after changing the image")
     for axis in range(3):
         if mean is not None:
-            _driver(socket, axis, f"{mean[axis]!r}*s", [strength])
+            _driver(socket, axis, f"{float(mean[axis])!r}*s", [strength])
         else:
             _driver(socket, axis, "c*s", [("c", "SINGLE_PROP", scene, "SCENE",
                                            f"{path}[0].default_value[{axis}]"), strength])
