@@ -20,9 +20,9 @@
 # CLOTHBAKE_ROOTS/SUITE.lock, run a shared one (runs side by side are fine).
 #
 # clothbake is built inside the root into build-SUITE/ of this checkout
-# (cmake -G Ninja, Release, nice -n 15, -j${CLOTHBAKE_ROOT_JOBS:-2}); `run`
-# brings that build up to date first (ninja; CLOTHBAKE_ROOT_BUILD=0 skips it)
-# and puts it and the root's blender on the PATH.
+# (cmake -G Ninja, Release, nice -n 15, -j${CLOTHBAKE_ROOT_JOBS:-2}; every
+# target, or CLOTHBAKE_ROOT_TARGETS); `run` brings that build up to date first
+# (CLOTHBAKE_ROOT_BUILD=0 skips it) and puts it and the root's blender on the PATH.
 #
 # Mounts: every command in the root runs in a private mount namespace
 # (unshare -m), where the checkout and /tmp are bind-mounted at their own paths
@@ -251,12 +251,14 @@ build() {
       ${CLOTHBAKE_CMAKE_ARGS:-} >"$BUILD/root-configure.log" 2>&1 ||
       { cat "$BUILD/root-configure.log" >&2; die "cmake configure failed in the $SUITE root"; }
   fi
-  if in_root "$ROOT" "$CHECKOUT" ninja -C "$BUILD" -n 2>/dev/null | grep -q 'no work to do'; then
+  local targets=()
+  read -r -a targets <<<"${CLOTHBAKE_ROOT_TARGETS:-}"
+  if in_root "$ROOT" "$CHECKOUT" ninja -C "$BUILD" -n "${targets[@]}" 2>/dev/null | grep -q 'no work to do'; then
     exec 8>&-
     return 0
   fi
   log "building $BUILD in the root (nice -n 15, -j$JOBS; log: $BUILD/root-build.log)"
-  if ! in_root "$ROOT" "$CHECKOUT" nice -n 15 cmake --build "$BUILD" -j "$JOBS" >"$BUILD/root-build.log" 2>&1; then
+  if ! in_root "$ROOT" "$CHECKOUT" nice -n 15 cmake --build "$BUILD" -j "$JOBS" ${targets[@]:+--target "${targets[@]}"} >"$BUILD/root-build.log" 2>&1; then
     grep -E 'error|Error|FAILED' "$BUILD/root-build.log" | head -40 >&2
     die "the build failed in the $SUITE root (log: $BUILD/root-build.log)"
   fi
