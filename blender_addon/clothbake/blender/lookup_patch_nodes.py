@@ -21,7 +21,7 @@ the exported OBJ and so the lookup use.
 import bpy
 
 from .graph import Graph
-from .node_compat import group_sockets, new_group_socket
+from .node_compat import group_sockets, new_group_socket, set_modifier_input
 
 GROUP_NAME = "clothbake patch"
 MODIFIER_NAME = "clothbake patch"
@@ -132,7 +132,7 @@ def attach(obj, uv_name):
     mod.node_group = patch_group()
     for socket in group_sockets(mod.node_group, "INPUT"):
         if socket.name == _UV_INPUT:
-            mod[socket.identifier] = uv_name
+            set_modifier_input(mod, socket.identifier, uv_name)
     # Last in the stack: it must see the faces every other modifier makes.
     if obj.modifiers[-1] != mod:
         with bpy.context.temp_override(object=obj, active_object=obj):

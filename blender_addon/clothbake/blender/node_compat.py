@@ -23,3 +23,17 @@ def group_sockets(tree, in_out):
         return [item for item in tree.interface.items_tree
                 if item.item_type == "SOCKET" and item.in_out == in_out]
     return list(tree.inputs if in_out == "INPUT" else tree.outputs)
+
+
+def set_modifier_input(mod, identifier, value):
+    """Sets a Geometry Nodes modifier's input, keyed by its socket's
+    `identifier`. Up to 4.x the value is an ID property of the modifier
+    (`mod[identifier]`); 5.x refuses ID properties there and keeps the
+    values under `mod.properties.inputs`, one item per socket with a
+    `value` (measured in 5.2.2)."""
+    props = getattr(mod, "properties", None)
+    inputs = getattr(props, "inputs", None)
+    if inputs is not None and hasattr(inputs, identifier):
+        getattr(inputs, identifier).value = value
+    else:
+        mod[identifier] = value
