@@ -99,6 +99,13 @@ void JsonObject::read(const char* key, double& out) const {
   out = d;
 }
 
+void JsonObject::read(const char* key, bool& out) const {
+  if (!has(key)) return;
+  const auto& v = m_value.at(key);
+  if (!v.is_boolean()) fail(field(key), "expected true or false, got " + type_name(v));
+  out = v.get<bool>();
+}
+
 void JsonObject::read(const char* key, int& out) const {
   if (!has(key)) return;
   const auto& v = m_value.at(key);

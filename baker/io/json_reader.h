@@ -36,6 +36,7 @@ class JsonObject {
   void read(const char* key, float& out) const;
   void read(const char* key, double& out) const;  ///< kept whole: a value written as double reads back exact
   void read(const char* key, int& out) const;
+  void read(const char* key, bool& out) const;
   void read(const char* key, uint64_t& out) const;
   void read(const char* key, std::string& out) const;
   void read(const char* key, Imath::V3f& out) const;                     ///< [x, y, z]

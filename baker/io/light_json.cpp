@@ -69,6 +69,7 @@ void read_spot_cone(const JsonObject& j, Light& light) {
   const double half = 0.5 * double(size_deg) * std::numbers::pi / 180.0;
   light.spot_cos_half_angle = float(std::cos(half));
   light.spot_smooth = float((1.0 - std::cos(half)) * double(blend));
+  j.read("axis_cosine", light.spot_axis_cosine);
 }
 
 /// An area light's shape and sides: `size` is one length for a square or a
@@ -141,15 +142,17 @@ Light read_light(const JsonObject& j, LightSpelling spelling) {
     light.type = LightType::Spot;
     light.position_world = required_position(j, "where the spot light is");
     if (scene) {
-      j.allow_only({"type", "position", "direction", "spot_size_deg", "spot_blend", "color",
-                    "intensity"});
+      j.allow_only({"type", "position", "direction", "spot_size_deg", "spot_blend",
+                    "axis_cosine", "color", "intensity"});
       light.axis_world = to_float(unit_vector(j, "direction", "the cone's axis, the way it shines"));
       read_spot_cone(j, light);
     } else {
-      j.allow_only({"type", "position", "axis", "cos_half_angle", "smooth", "color", "intensity"});
+      j.allow_only({"type", "position", "axis", "cos_half_angle", "smooth", "axis_cosine",
+                    "color", "intensity"});
       light.axis_world = stored_unit(j, "axis");
       j.read("cos_half_angle", light.spot_cos_half_angle);
       j.read("smooth", light.spot_smooth);
+      j.read("axis_cosine", light.spot_axis_cosine);
     }
   } else if (type == "area") {
     light.type = LightType::Area;
@@ -203,6 +206,7 @@ nlohmann::json stored_light_json(const Light& l) {
       j["axis"] = v3(l.axis_world);
       j["cos_half_angle"] = l.spot_cos_half_angle;
       j["smooth"] = l.spot_smooth;
+      if (!l.spot_axis_cosine) j["axis_cosine"] = false;  // written only off its default
       break;
     case LightType::Area:
       j["type"] = "area";

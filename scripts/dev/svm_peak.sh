@@ -15,7 +15,12 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 scene=$1 material=$2 route=${3:-exact} addon=${4:-$root/blender_addon}
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/svm_peak.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
-blender -b --factory-startup --debug-cycles --verbose 4 --python-exit-code 1 \
+# Blender 5.x logs Cycles' summary at trace level only, each line behind a
+# "time  cycles  |" margin.
+log_level=()
+major=$(blender --version 2>/dev/null | awk '/^Blender/ {split($2, v, "."); print v[1]; exit}')
+((${major:-3} >= 5)) && log_level=(--log-level trace)
+blender -b --factory-startup --debug-cycles --verbose 4 "${log_level[@]}" --python-exit-code 1 \
   -P "$addon/headless_render.py" -- "$scene" "$material" "$tmp/out.exr" \
   --samples 1 --threads 1 --route "$route" >"$tmp/log" 2>&1 || {
   tail -20 "$tmp/log" >&2; echo "svm_peak.sh: the render failed" >&2; exit 1; }
@@ -27,10 +32,10 @@ else
 fi
 # Cycles' compilation summary: "Shader name:", "Number of SVM nodes:",
 # "Peak stack usage:" lines in that order; print the clothbake ones.
-awk -v route="$route" '
+sed -E 's/^[0-9:. ]*(cycles +)?\| ?//' "$tmp/log" | awk -v route="$route" '
   /^Shader name:/ { name = substr($0, 14) }
   /^Number of SVM nodes:/ { nodes = $NF }
   /^Peak stack usage:/ { if (name ~ /clothbake/) printf "%s\t%s\tnodes %s\tpeak %s of 255\n", route, name, nodes, $NF }
-' "$tmp/log" | sort -u
+' | sort -u
 echo "$route: $status"
 [ "$status" = ok ]

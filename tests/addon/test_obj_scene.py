@@ -6,6 +6,7 @@ import os
 import pytest
 
 from clothbake.core.errors import ClothbakeError
+from clothbake.core.light_units import BLENDER_3
 from clothbake.core.obj import format_obj, read_obj
 from clothbake.core import scene as sc
 
@@ -89,7 +90,7 @@ def test_loads_the_paper_scene(source_dir):
     assert [l["type"] for l in model["lights"]] == ["directional", "point"]
     (obj,) = model["objects"]
     assert os.path.isfile(obj["mesh_path"]) and os.path.isfile(obj["cloth_path"])
-    sun = sc.blender_light(model["lights"][0])
+    sun = sc.blender_light(model["lights"][0], BLENDER_3)
     # Blender's sun shines along its local -Z: the matrix's third column is -direction.
     z = [sun["matrix"][r][2] for r in range(3)]
     d = model["lights"][0]["direction"]
@@ -98,7 +99,7 @@ def test_loads_the_paper_scene(source_dir):
     assert sun["energy"] == 3.0
     # A Cycles point lamp of P watts gives irradiance P / (4 pi) at 1 unit
     # (measured: lab/light_units/light_units.py), so intensity 8 needs 32 pi W.
-    point = sc.blender_light(model["lights"][1])
+    point = sc.blender_light(model["lights"][1], BLENDER_3)
     assert point["energy"] == pytest.approx(8.0 * 4.0 * math.pi, rel=1e-12)
 
 

@@ -21,6 +21,8 @@ from clothbake.core import scene_export as se  # noqa: E402
 from clothbake.core import scene_match as sm  # noqa: E402
 from clothbake.core.errors import ClothbakeError  # noqa: E402
 from clothbake.core.obj import read_obj  # noqa: E402
+from clothbake.core.light_units import (BLENDER_3, BLENDER_4, effective_watts,  # noqa: E402
+                                        light_units, unsupported_light_setting)
 from clothbake.core.scene import (blender_camera, blender_light, camera_basis,  # noqa: E402
                                   load_scene)
 
@@ -103,7 +105,7 @@ def test_sensor_fit_auto_follows_the_larger_side():
 def test_lights_round_trip(float32):
     lights = load_scene(PAPER)["lights"]
     for i, light in enumerate(lights):
-        b = blender_light(light)
+        b = blender_light(light, BLENDER_3)
         matrix = as_float32(b["matrix"]) if float32 else b["matrix"]
         energy = f32(b["energy"]) if float32 else b["energy"]
         color = [f32(c) for c in b["color"]] if float32 else b["color"]
@@ -157,7 +159,7 @@ def _f32_settings(settings):
 @pytest.mark.parametrize("light", SPOT_AND_AREA, ids=lambda l: l["type"] + "-" +
                          str(l.get("shape", "")))
 def test_spot_and_area_lights_round_trip(float32, light):
-    b = blender_light(light)
+    b = blender_light(light, BLENDER_3)
     matrix = as_float32(b["matrix"]) if float32 else b["matrix"]
     settings = blender_settings(b)
     energy = f32(b["energy"]) if float32 else b["energy"]
@@ -198,9 +200,10 @@ def test_light_watts():
     intensity), an area light's 4 per unit of radiant intensity (measured:
     Cycles 3.4 gives radiance P / (4 A); docs/design/blender-nodes.md)."""
     spot, area = SPOT_AND_AREA[0], SPOT_AND_AREA[1]
-    assert blender_light(spot)["energy"] == pytest.approx(2.5 * 4 * math.pi, rel=1e-12)
-    assert blender_light(area)["energy"] == pytest.approx(12.0, rel=1e-12)
-    b = blender_light(spot)
+    assert blender_light(spot, BLENDER_3)["energy"] == pytest.approx(2.5 * 4 * math.pi,
+                                                                     rel=1e-12)
+    assert blender_light(area, BLENDER_3)["energy"] == pytest.approx(12.0, rel=1e-12)
+    b = blender_light(spot, BLENDER_3)
     assert b["spot_size"] == pytest.approx(math.radians(52.5)) and b["spot_blend"] == 0.3
     # -Z along the direction, a rotation (orthonormal, right-handed)
     m = b["matrix"]
@@ -217,6 +220,50 @@ def test_light_watts():
     assert_vec(cx, cols[2], 1e-12)
 
 
+def test_light_watts_from_blender_4():
+    """From Blender 4.0 an area light of P watts has radiance P / (pi A)
+    and a spot's mask lacks 3.x's cosine off the axis (measured in 4.3.2
+    and 5.2.2: lab/light_units/): the same clothbake light takes pi / 4 of
+    the area watts, the spot's watts are a point light's, and the spot is
+    written with axis_cosine false. Both round-trip in their own units."""
+    assert light_units((3, 4, 1)) is BLENDER_3 and light_units((3, 6, 0)) is BLENDER_3
+    assert light_units((4, 0, 0)) is BLENDER_4 and light_units((5, 2, 2)) is BLENDER_4
+    spot, area = SPOT_AND_AREA[0], SPOT_AND_AREA[1]
+    assert blender_light(area, BLENDER_4)["energy"] == pytest.approx(3.0 * math.pi, rel=1e-12)
+    b = blender_light(spot, BLENDER_4)
+    assert b["energy"] == pytest.approx(2.5 * 4 * math.pi, rel=1e-12)
+    assert "mask" in b     # a spot written for 3.x, made in 4.x: noted
+    back = se.light_from_blender("s", "SPOT", b["matrix"], b["color"], b["energy"],
+                                 settings={"spot_size": b["spot_size"],
+                                           "spot_blend": b["spot_blend"]}, units=BLENDER_4)
+    assert back["axis_cosine"] is False
+    assert back["intensity"] == pytest.approx(spot["intensity"], rel=1e-12)
+    assert "mask" not in blender_light(back, BLENDER_4)
+    a = blender_light(area, BLENDER_4)
+    back = se.light_from_blender("a", "AREA", a["matrix"], a["color"], a["energy"],
+                                 settings={"shape": a["shape"], "size": a["size"],
+                                           "size_y": a["size_y"]}, units=BLENDER_4)
+    assert back["intensity"] == pytest.approx(area["intensity"], rel=1e-12)
+    assert "axis_cosine" not in se.light_from_blender(
+        "s", "SPOT", b["matrix"], b["color"], b["energy"],
+        settings={"spot_size": 1.0, "spot_blend": 0.1}, units=BLENDER_3)
+
+
+def test_light_exposure_and_unsupported_settings():
+    """Exposure (4.0 on) multiplies the watts by 2^exposure; Temperature on
+    or Normalize off (5.x) is refused naming the light and the setting."""
+    assert effective_watts(10.0) == 10.0
+    assert effective_watts(10.0, 2.0) == pytest.approx(40.0)
+    assert effective_watts(10.0, -1.0) == pytest.approx(5.0)
+    assert unsupported_light_setting() is None
+    with pytest.raises(ClothbakeError) as e:
+        se.light_from_blender("warm", "POINT", [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 2],
+                                                [0, 0, 0, 1]], [1, 1, 1], 10.0,
+                              unsupported=unsupported_light_setting(use_temperature=True))
+    assert "light 'warm'" in str(e.value) and "Temperature" in str(e.value)
+    assert "Normalize" in unsupported_light_setting(normalize=False)
+
+
 def _scaled(matrix, sx, sy, sz=1.0):
     return [[row[0] * sx, row[1] * sy, row[2] * sz, row[3]] for row in matrix[:3]] + [matrix[3]]
 
@@ -225,20 +272,20 @@ def test_area_size_follows_the_object_scale():
     """The sides are size (size_y) times the world matrix's scale along X
     (Y); a square or disk scaled unevenly is a rectangle or an ellipse."""
     square = dict(SPOT_AND_AREA[4])
-    b = blender_light(square)
+    b = blender_light(square, BLENDER_3)
     out = se.light_from_blender("sq", "AREA", _scaled(b["matrix"], 2.0, 2.0, 5.0), [1, 1, 1],
                                 b["energy"], settings=blender_settings(b))
     assert out["shape"] == "square" and out["size"] == pytest.approx(0.5)
     out = se.light_from_blender("sq", "AREA", _scaled(b["matrix"], 2.0, 3.0), [1, 1, 1],
                                 b["energy"], settings=blender_settings(b))
     assert out["shape"] == "rectangle" and out["size"] == pytest.approx([0.5, 0.75])
-    disk = blender_light(SPOT_AND_AREA[2])
+    disk = blender_light(SPOT_AND_AREA[2], BLENDER_3)
     out = se.light_from_blender("d", "AREA", _scaled(disk["matrix"], 1.0, 0.5), [1, 1, 1],
                                 disk["energy"], settings=blender_settings(disk))
     assert out["shape"] == "ellipse" and out["size"] == pytest.approx([0.6, 0.3])
     assert out["intensity"] == pytest.approx(1.5)   # the power is kept, not the radiance
     # a spot scaled evenly is the same spot (Cycles ignores its scale)
-    spot = blender_light(SPOT_AND_AREA[0])
+    spot = blender_light(SPOT_AND_AREA[0], BLENDER_3)
     out = se.light_from_blender("s", "SPOT", _scaled(spot["matrix"], 3.0, 3.0, 3.0),
                                 spot["color"], spot["energy"], settings=blender_settings(spot))
     assert_vec(out["position"], SPOT_AND_AREA[0]["position"], 1e-12)
@@ -246,12 +293,12 @@ def test_area_size_follows_the_object_scale():
 
 
 def test_what_clothbake_cannot_model_is_refused_naming_light_and_setting():
-    spot = blender_light(SPOT_AND_AREA[0])
+    spot = blender_light(SPOT_AND_AREA[0], BLENDER_3)
     with pytest.raises(ClothbakeError, match=r"^light 'cone': scale: its X and Y scale differ "
                                              r"\(2, 1\): Eevee draws that cone as an ellipse"):
         se.light_from_blender("cone", "SPOT", _scaled(spot["matrix"], 2.0, 1.0), [1, 1, 1],
                               100.0, settings=blender_settings(spot))
-    area = blender_light(SPOT_AND_AREA[1])
+    area = blender_light(SPOT_AND_AREA[1], BLENDER_3)
     settings = dict(blender_settings(area), spread=math.radians(90.0))
     with pytest.raises(ClothbakeError, match=r"^light 'panel': spread: 90 degrees; clothbake's "
                                              "area lights emit into the whole half-space"):
@@ -271,7 +318,7 @@ def test_what_clothbake_cannot_model_is_refused_naming_light_and_setting():
 def test_spot_and_area_lights_in_a_written_scene_read_back(tmp_path):
     model = model_of(SLAB)
     for light in SPOT_AND_AREA:
-        b = blender_light(light)
+        b = blender_light(light, BLENDER_3)
         model["lights"].append(se.light_from_blender(
             "l", b["type"], as_float32(b["matrix"]), b["color"], f32(b["energy"]), hint=light,
             settings=_f32_settings(blender_settings(b))))
@@ -328,7 +375,7 @@ def model_of(scene_path, float32=True):
                                  hint=scene["camera"])
     lights = []
     for i, light in enumerate(scene["lights"]):
-        bl = blender_light(light)
+        bl = blender_light(light, BLENDER_3)
         lights.append(se.light_from_blender(f"l{i}", bl["type"], as_float32(bl["matrix"]),
                                             bl["color"], f32(bl["energy"]), hint=light))
     objects = []

@@ -171,16 +171,18 @@ def main():
 
     scene = bpy.context.scene
     lights = sorted((o for o in scene.objects if o.type == "LIGHT"), key=lambda o: o.name)
+    from clothbake.core.light_units import light_units
     from clothbake.core.scene import blender_light
+    units = light_units(bpy.app.version)
     for o, spec in zip(lights, moved_lights):
-        s = blender_light(spec)
+        s = blender_light(spec, units)
         o.matrix_world = Matrix(s["matrix"])
         o.data.color = s["color"]
         o.data.energy = s["energy"]
     within_noise("lights moved, recoloured, re-powered after Apply", pair("lights"), refs["lights"],
             SYS)
     for o, spec in zip(lights, BASE["lights"]):
-        s = blender_light(spec)
+        s = blender_light(spec, units)
         o.matrix_world = Matrix(s["matrix"])
         o.data.color = s["color"]
         o.data.energy = s["energy"]

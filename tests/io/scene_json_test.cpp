@@ -80,7 +80,7 @@ TEST_F(SceneJson, ReadsEveryKey) {
                {"type": "point", "position": [4, 5, 6], "color": [0.2, 0.3, 0.4],
                 "intensity": 10},
                {"type": "spot", "position": [0, 0, 4], "direction": [0, 0, -2],
-                "spot_size_deg": 60, "spot_blend": 0.5, "intensity": 7},
+                "spot_size_deg": 60, "spot_blend": 0.5, "axis_cosine": false, "intensity": 7},
                {"type": "area", "position": [1, 0, 3], "direction": [0, 0, -1],
                 "x_axis": [2, 0, 1], "shape": "ellipse", "size": [2, 0.5], "intensity": 4},
                {"type": "area", "position": [1, 0, 3], "direction": [0, 0, -1],
@@ -120,6 +120,7 @@ TEST_F(SceneJson, ReadsEveryKey) {
   EXPECT_FLOAT_EQ(s.lights[2].spot_cos_half_angle, std::cos(30.0f * 3.14159265f / 180.0f));
   EXPECT_FLOAT_EQ(s.lights[2].spot_smooth, (1.0f - std::cos(30.0f * 3.14159265f / 180.0f)) * 0.5f);
   EXPECT_FLOAT_EQ(s.lights[2].intensity, 7.0f);
+  EXPECT_FALSE(s.lights[2].spot_axis_cosine);
   // An area light: the x axis made orthogonal to the normal, the sides as given.
   EXPECT_EQ(s.lights[3].type, LightType::Area);
   EXPECT_EQ(s.lights[3].area_shape, AreaShape::Ellipse);

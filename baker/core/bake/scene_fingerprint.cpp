@@ -118,6 +118,9 @@ std::string scene_fingerprint(const Scene& scene) {
     if (l.type == LightType::Spot) {
       f.add(l.spot_cos_half_angle);
       f.add(l.spot_smooth);
+      // Off its default only, so that every scene written before the field
+      // keeps its fingerprint.
+      if (!l.spot_axis_cosine) f.add(std::string("no axis cosine"));
     }
     if (l.type == LightType::Area) {
       f.add(l.side_world);

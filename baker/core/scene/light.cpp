@@ -37,14 +37,15 @@ void concentric_disk(float u1, float u2, float& x, float& y) {
 }
 }  // namespace
 
-float spot_attenuation(float cos_axis, float cos_half_angle, float smooth) {
+float spot_attenuation(float cos_axis, float cos_half_angle, float smooth, bool axis_cosine) {
   if (!(cos_axis > cos_half_angle)) return 0.0f;
+  const float inside = axis_cosine ? cos_axis : 1.0f;
   const float t = cos_axis - cos_half_angle;
   if (smooth > 0.0f && t < smooth) {
     const float x = t / smooth;
-    return cos_axis * x * x * (3.0f - 2.0f * x);
+    return inside * x * x * (3.0f - 2.0f * x);
   }
-  return cos_axis;
+  return inside;
 }
 
 float Light::area() const {
@@ -88,7 +89,7 @@ void Light::illuminate(const V3f& p_world, V3f& to_light, V3f& irradiance, float
     case LightType::Spot:
       irradiance = color * (intensity *
                             spot_attenuation(-to_light.dot(axis_world), spot_cos_half_angle,
-                                             spot_smooth) /
+                                             spot_smooth, spot_axis_cosine) /
                             dist2);
       return;
     case LightType::Area: {

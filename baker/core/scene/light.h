@@ -34,6 +34,10 @@ struct Light {
   /// the cosine, (1 - cos_half_angle) x blend.
   float spot_cos_half_angle = 0.0f;
   float spot_smooth = 0.0f;
+  /// Spot: whether the mask holds one more cosine of the angle off the axis,
+  /// as Blender 3.x's spot does; Blender 4.0 and later have the smoothstep
+  /// alone (docs/formats/scene.md, "axis_cosine").
+  bool spot_axis_cosine = true;
   /// Area: shape and the two side lengths (world units; an ellipse's axes).
   AreaShape area_shape = AreaShape::Rectangle;
   float area_width = 1.0f, area_height = 1.0f;
@@ -55,9 +59,10 @@ struct Light {
   float area() const;
 };
 
-/// Cycles 3.x's spot mask for the cosine between the cone's axis and the
-/// direction from the light to the point: zero outside the cone, the cosine
-/// itself inside, rolled off by a smoothstep over `smooth` at the edge.
-float spot_attenuation(float cos_axis, float cos_half_angle, float smooth);
+/// Cycles' spot mask for the cosine between the cone's axis and the
+/// direction from the light to the point: zero outside the cone, rolled off
+/// by a smoothstep over `smooth` at the edge, and 1 inside, or the cosine
+/// itself with `axis_cosine` (Blender 3.x's mask).
+float spot_attenuation(float cos_axis, float cos_half_angle, float smooth, bool axis_cosine);
 
 }  // namespace clothbake

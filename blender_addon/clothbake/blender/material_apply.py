@@ -12,6 +12,7 @@ import numpy as np
 
 from ..core.defaults import DEPTH_SCALE_TOLERANCE
 from ..core.errors import ClothbakeError
+from ..core.light_units import unsupported_light_setting
 from ..core.material_manifest import SWF
 from ..core.material_pack import pack_material, read_material
 from ..core.svm_budget import stack_note
@@ -176,8 +177,10 @@ def scene_lights(scene):
     Sun, point, spot and area lights light it; an area light whose Spread
     is not 180 degrees is left out (clothbake's area lights emit into the
     whole half-space, and a narrower spread is up to 1.7 x brighter under
-    it: measured), with a note; a spot scaled unevenly is lit as its round
-    cone, as Cycles 3.4 draws it (Eevee draws an ellipse), with a note."""
+    it: measured), with a note, and so is one whose colour temperature or
+    Normalize off (Blender 5.x) clothbake does not model; a spot scaled
+    unevenly is lit as its round cone, as Cycles 3.4 draws it (Eevee draws
+    an ellipse), with a note."""
     lights, notes = [], []
     for obj in scene.objects:
         if obj.type != "LIGHT":
@@ -187,6 +190,11 @@ def scene_lights(scene):
             notes.append(f"light '{obj.name}': its spread is "
                          f"{math.degrees(data.spread):.4g} degrees: the material is not lit by "
                          "it (clothbake's area lights have Spread 180 degrees)")
+            continue
+        why = unsupported_light_setting(getattr(data, "use_temperature", False),
+                                        getattr(data, "normalize", True))
+        if why is not None and data.type in ("SUN", "POINT", "SPOT", "AREA"):
+            notes.append(f"light '{obj.name}': {why}: the material is not lit by it")
             continue
         if data.type == "SPOT":
             sx, sy = obj.matrix_world.col[0].length, obj.matrix_world.col[1].length

@@ -3,12 +3,14 @@
 render visibility, a spot's axis and cone, an area light's axis, sides and
 shape, and the camera's pixel angle and Cycles' samples.
 
-They read each light object's world transform, colour, power and
-render visibility (BLENDER_NOTES.md: simple expressions, no script
+They read each light object's world transform, colour, power (and
+Exposure from Blender 4.0) and render visibility (BLENDER_NOTES.md: simple expressions, no script
 auto-run needed). A Texture Coordinate node set to an empty would need one
 empty per light kept aligned with it; drivers read the light itself.
 """
-import math
+import bpy
+
+from ..core.light_units import light_units
 
 
 def _driver(socket, index, expression, variables):
@@ -48,9 +50,9 @@ _Z_AXIS = ("2*(x*z+w*y)", "2*(y*z-w*x)", "1-2*(x*x+y*y)")
 # values: SQUARE 0, RECTANGLE 1, DISK 4, ELLIPSE 5; checked in Blender 3.4).
 _USES_SIZE_Y = "(s == 1 or s == 5)"
 _IS_ELLIPSE = "1.0 if s >= 4 else 0.0"
-# Watts to the group's irradiance input (clothbake's intensity):
-# scene.POINT_WATTS_PER_IRRADIANCE, SPOT_ and AREA_WATTS_PER_INTENSITY.
-_PER_WATT = {"POINT": 1.0 / (4.0 * math.pi), "SPOT": 1.0 / (4.0 * math.pi), "AREA": 0.25}
+# Watts to the group's irradiance input (clothbake's intensity), in this
+# Blender's units (core/light_units.py).
+UNITS = light_units(bpy.app.version)
 
 
 def _rotation(light_obj):
@@ -75,14 +77,16 @@ def drive_light(node, l, light_obj):
     else:
         for axis, c in enumerate("XYZ"):
             _driver(vector, axis, "p", [("p", "TRANSFORMS", light_obj, None, f"LOC_{c}")])
-        per = _PER_WATT.get(kind, _PER_WATT["POINT"])
+        per = 1.0 / UNITS.watts_per_intensity(kind if kind in ("SPOT", "AREA") else "POINT")
     node.inputs[f"Light {l} point"].default_value = 0.0 if light_obj.data.type == "SUN" else 1.0
     irr = node.inputs[f"Light {l} irradiance"]
+    exposure = hasattr(light_obj.data, "exposure")      # Blender 4.0 on: watts x 2^x
     for axis in range(3):
-        _driver(irr, axis, f"c*e*{per!r}*(1-h)",
+        _driver(irr, axis, f"c*e*{float(per)!r}*(1-h)" + ("*pow(2,x)" if exposure else ""),
                 [("c", "SINGLE_PROP", light_obj, "OBJECT", f"data.color[{axis}]"),
                  ("e", "SINGLE_PROP", light_obj, "OBJECT", "data.energy"),
-                 ("h", "SINGLE_PROP", light_obj, "OBJECT", "hide_render")])
+                 ("h", "SINGLE_PROP", light_obj, "OBJECT", "hide_render")] +
+                ([("x", "SINGLE_PROP", light_obj, "OBJECT", "data.exposure")] if exposure else []))
     if kind in ("SPOT", "AREA") and f"Light {l} axis" in node.inputs:
         rot = _rotation(light_obj)
         for axis, expr in enumerate(_Z_AXIS):    # the way it shines: its -Z

@@ -17,8 +17,11 @@ import shutil
 import tempfile
 from contextlib import contextmanager
 
+import bpy
+
 from ..core import scene_export, scene_match
 from ..core.errors import ClothbakeError
+from ..core.light_units import effective_watts, light_units, unsupported_light_setting
 from ..core.scene import load_scene
 from . import evaluated_mesh
 
@@ -93,6 +96,21 @@ def mesh_data(obj):
                              e.path, e.field) from None
 
 
+UNITS = light_units(bpy.app.version)
+
+
+def light_watts(data):
+    """A light's watts with its Exposure (Blender 4.0 on) applied."""
+    return effective_watts(data.energy, getattr(data, "exposure", 0.0))
+
+
+def unsupported_setting(data):
+    """Why clothbake cannot light as this light does (Blender 5.x's
+    Temperature, Normalize off), or None."""
+    return unsupported_light_setting(getattr(data, "use_temperature", False),
+                                     getattr(data, "normalize", True))
+
+
 def light_settings(data):
     """What light_from_blender reads beyond type, colour and power: a spot's
     cone, an area light's shape, sizes and spread (None for the others)."""
@@ -139,7 +157,8 @@ def build_model(scene, supported_lights_only=False):
         try:
             lights.append(scene_export.light_from_blender(
                 obj.name, obj.data.type, _matrix(obj.matrix_world), obj.data.color,
-                obj.data.energy, hint=light_hint, settings=light_settings(obj.data)))
+                light_watts(obj.data), hint=light_hint, settings=light_settings(obj.data),
+                units=UNITS, unsupported=unsupported_setting(obj.data)))
         except ClothbakeError:
             if not supported_lights_only:
                 raise

@@ -15,6 +15,7 @@ import bpy
 from mathutils import Matrix
 
 from ..core.obj import read_obj
+from ..core.light_units import light_units
 from ..core.scene import blender_camera, blender_light, load_scene
 from .operators_cloth import load_from_scene_object
 
@@ -104,7 +105,9 @@ def import_scene(path, clear=True, samples=16):
     scene.camera = cam_obj
 
     for i, light in enumerate(model["lights"]):
-        settings = blender_light(light)
+        settings = blender_light(light, light_units(bpy.app.version))
+        if "mask" in settings:
+            print(f"clothbake: warning: {path}: lights[{i}]: {settings['mask']}")
         data = bpy.data.lights.new(f"clothbake light {i}", settings["type"])
         data.color = settings["color"]
         data.energy = settings["energy"]

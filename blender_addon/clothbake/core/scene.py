@@ -27,23 +27,7 @@ _RENDER_CHOICES = {"fiber_model": FIBER_MODELS, "transmittance": TRANSMITTANCES,
 _MAX_SAMPLES = 65536
 _MAX_SEED = 2**31 - 1  # what a Blender IntProperty holds
 
-# Blender's point light: a lamp of power P watts has radiant intensity
-# P / (4 pi) W/sr in Cycles, measured (lab/light_units/light_units.py: 1 W at
-# 1 unit gives irradiance 0.0796 = 1/(4 pi) on a white plane). So clothbake's
-# point intensity I (irradiance at distance 1) needs P = 4 pi I watts. A
-# white plane's radiance is P / (4 pi^2); reading that as irradiance is the
-# 4 pi^2 mistake this constant once made. Sun strength is irradiance already.
-POINT_WATTS_PER_IRRADIANCE = 4.0 * math.pi
-# A spot light of P watts is that point light masked by its cone: irradiance
-# P / (4 pi) at 1 unit on its axis, times Cycles' spot attenuation (which
-# holds one more cosine of the angle off the axis; measured, docs/
-# blender-addon.md, "Blender's spot and area lights, measured").
-SPOT_WATTS_PER_INTENSITY = POINT_WATTS_PER_IRRADIANCE
-# An area light of P watts and area A (its sizes times the object's scale)
-# has radiance P / (4 A) in Cycles 3.4, measured on every shape
-# (lab/light_units/spot_area_units.py): not P / (pi A). clothbake's area
-# intensity is radiance x area, so P = 4 I.
-AREA_WATTS_PER_INTENSITY = 4.0
+# Blender's watts as clothbake's intensities, per Blender version: light_units.py.
 
 
 def _vec(value, n, path, field):
@@ -131,6 +115,11 @@ def _spot(lj, light, path, where):
     light["direction"] = _vec(lj.get("direction"), 3, path, where + ".direction")
     for key, default in SPOT_DEFAULTS.items():
         light[key] = _num(lj.get(key, default), path, f"{where}.{key}")
+    axis_cosine = lj.get("axis_cosine", True)
+    if not isinstance(axis_cosine, bool):
+        raise ClothbakeError("must be true or false", path, where + ".axis_cosine")
+    if not axis_cosine:     # kept off its default only, as export writes it
+        light["axis_cosine"] = False
 
 
 def _area(lj, light, path, where):
@@ -316,12 +305,15 @@ def area_sides(light):
         (float(size), float(size))
 
 
-def blender_light(light):
-    """Blender light settings for a clothbake light: type, colour, energy,
-    the world matrix (a sun's, spot's and area light's -Z along
-    `direction`; an area light's +X along `x_axis`), and a spot's
-    spot_size (radians) and spot_blend, an area light's shape, size and
-    size_y (scale 1: the sides are the sizes)."""
+def blender_light(light, units):
+    """Blender light settings for a clothbake light, in the LightUnits of
+    the Blender that makes it (light_units.py): type, colour, energy, the
+    world matrix (a sun's, spot's and area light's -Z along `direction`; an
+    area light's +X along `x_axis`), and a spot's spot_size (radians) and
+    spot_blend, an area light's shape, size and size_y (scale 1: the sides
+    are the sizes). A spot whose cone mask is not that Blender's
+    (axis_cosine) gets the note "mask" saying so: its watts are right on
+    the axis only."""
     if light["type"] == "directional":
         d = _normalized(light["direction"])
         helper = [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0]
@@ -333,18 +325,24 @@ def blender_light(light):
                 "matrix": matrix}
     p = light["position"]
     if light["type"] == "spot":
-        return {"type": "SPOT", "color": light["color"],
-                "energy": light["intensity"] * SPOT_WATTS_PER_INTENSITY,
-                "matrix": _aim_matrix(light["direction"], p),
-                "spot_size": math.radians(light["spot_size_deg"]),
-                "spot_blend": light["spot_blend"]}
+        out = {"type": "SPOT", "color": light["color"],
+               "energy": light["intensity"] * units.spot_watts_per_intensity,
+               "matrix": _aim_matrix(light["direction"], p),
+               "spot_size": math.radians(light["spot_size_deg"]),
+               "spot_blend": light["spot_blend"]}
+        if light.get("axis_cosine", True) != units.spot_axis_cosine:
+            out["mask"] = (f"its cone {'holds' if light.get('axis_cosine', True) else 'lacks'} "
+                           f"the extra cosine off the axis that Blender {units.name}'s spot "
+                           f"{'lacks' if light.get('axis_cosine', True) else 'holds'}: "
+                           "it is right on the axis only")
+        return out
     if light["type"] == "area":
         width, height = area_sides(light)
         return {"type": "AREA", "color": light["color"],
-                "energy": light["intensity"] * AREA_WATTS_PER_INTENSITY,
+                "energy": light["intensity"] * units.area_watts_per_intensity,
                 "matrix": _aim_matrix(light["direction"], p, light["x_axis"]),
                 "shape": light["shape"].upper(), "size": width, "size_y": height}
     matrix = [[1.0, 0.0, 0.0, p[0]], [0.0, 1.0, 0.0, p[1]], [0.0, 0.0, 1.0, p[2]],
               [0.0, 0.0, 0.0, 1.0]]
     return {"type": "POINT", "color": light["color"],
-            "energy": light["intensity"] * POINT_WATTS_PER_IRRADIANCE, "matrix": matrix}
+            "energy": light["intensity"] * units.point_watts_per_irradiance, "matrix": matrix}

@@ -20,8 +20,9 @@ from . import defaults
 from .cloth_fields import short_float
 from .errors import ClothbakeError
 from .obj import QuadMeshData, format_obj
-from .scene import (AREA_WATTS_PER_INTENSITY, FIBER_MODELS,  # noqa: F401 (for the panel)
-                    POINT_WATTS_PER_IRRADIANCE, SHADINGS, SPOT_WATTS_PER_INTENSITY,
+from .light_units import BLENDER_3
+from .scene import (FIBER_MODELS,  # noqa: F401 (for the panel)
+                    SHADINGS,
                     TRANSMITTANCES, camera_basis)
 
 RENDER_DEFAULTS = defaults.RENDER_DEFAULTS  # the program's (core/defaults.py)
@@ -158,7 +159,7 @@ def _unit_scale(length):
     return 1.0 if abs(length - 1.0) <= 4e-7 else length
 
 
-def _spot_from_blender(name, matrix, energy, settings, hint):
+def _spot_from_blender(name, matrix, energy, settings, hint, units):
     where = f"light '{name}'"
     sx, sy = _norm(_column(matrix, 0)), _norm(_column(matrix, 1))
     if abs(sx - sy) > SCALE_TOLERANCE * max(sx, sy):
@@ -171,15 +172,18 @@ def _spot_from_blender(name, matrix, energy, settings, hint):
         raise ClothbakeError("the light's world matrix is singular", "", where)
     size_deg = _degrees(float(settings["spot_size"]))
     blend = float(settings["spot_blend"])
-    return {"type": "spot",
-            "position": _snap(_column(matrix, 3), hint["position"] if hint else None),
-            "direction": _snap_direction(direction, hint["direction"] if hint else None),
-            "spot_size_deg": _snap(size_deg, hint["spot_size_deg"] if hint else None),
-            "spot_blend": _snap(blend, hint["spot_blend"] if hint else None),
-            "intensity": float(energy) / SPOT_WATTS_PER_INTENSITY}
+    light = {"type": "spot",
+             "position": _snap(_column(matrix, 3), hint["position"] if hint else None),
+             "direction": _snap_direction(direction, hint["direction"] if hint else None),
+             "spot_size_deg": _snap(size_deg, hint["spot_size_deg"] if hint else None),
+             "spot_blend": _snap(blend, hint["spot_blend"] if hint else None),
+             "intensity": float(energy) / units.spot_watts_per_intensity}
+    if not units.spot_axis_cosine:
+        light["axis_cosine"] = False
+    return light
 
 
-def _area_from_blender(name, matrix, energy, settings, hint):
+def _area_from_blender(name, matrix, energy, settings, hint, units):
     where = f"light '{name}'"
     spread = float(settings.get("spread", math.pi))
     if abs(spread - math.pi) > 1e-5:
@@ -218,26 +222,32 @@ def _area_from_blender(name, matrix, energy, settings, hint):
                                          hint["direction"] if hint else None),
             "x_axis": _snap_direction(normalized(x), hint["x_axis"] if hint else None),
             "shape": shape, "size": out_size,
-            "intensity": float(energy) / AREA_WATTS_PER_INTENSITY}
+            "intensity": float(energy) / units.area_watts_per_intensity}
 
 
-def light_from_blender(name, light_type, matrix, color, energy, hint=None, settings=None):
-    """The clothbake light of a Blender light: SUN -> directional (travelling
+def light_from_blender(name, light_type, matrix, color, energy, hint=None, settings=None,
+                       units=BLENDER_3, unsupported=None):
+    """The clothbake light of a Blender light, its watts read in `units`
+    (light_units.py: the Blender version's): SUN -> directional (travelling
     along the light's -Z, irradiance = strength), POINT -> point (irradiance
-    at distance 1 = watts / POINT_WATTS_PER_IRRADIANCE), SPOT -> spot (the
-    same, masked by the cone: `settings` spot_size in radians, spot_blend),
-    AREA -> area (`settings` shape, size, size_y, spread; the sides are the
-    sizes times the matrix's scale along X and Y; radiant intensity along
-    its normal = watts / AREA_WATTS_PER_INTENSITY). A light radius (point,
-    spot) is not in clothbake's lights and is ignored. What clothbake cannot
-    model (other types, an area spread other than 180 degrees, a spot whose
-    X and Y scale differ, a sheared area light) is refused, naming the light
-    and the setting."""
+    at distance 1 = watts / 4 pi), SPOT -> spot (the same, masked by the
+    cone: `settings` spot_size in radians, spot_blend; axis_cosine false
+    from Blender 4.0), AREA -> area (`settings` shape, size, size_y, spread;
+    the sides are the sizes times the matrix's scale along X and Y; radiant
+    intensity along its normal = watts / units.area_watts_per_intensity).
+    `energy` is the watts with Exposure applied (light_units.effective_watts).
+    A light radius (point, spot) is not in clothbake's lights and is
+    ignored. What clothbake cannot model (other types, an area spread other
+    than 180 degrees, a spot whose X and Y scale differ, a sheared area
+    light, `unsupported`: light_units.unsupported_light_setting's reason) is
+    refused, naming the light and the setting."""
     kind = _LIGHT_TYPES.get(light_type)
     if kind is None:
         raise ClothbakeError(f"{light_type.lower()} lights are not supported; clothbake has "
                              "sun (directional), point, spot and area lights", "",
                              f"light '{name}'")
+    if unsupported is not None:
+        raise ClothbakeError(unsupported, "", f"light '{name}'")
     if hint is not None and hint.get("type") != kind:
         hint = None
     color = _snap([float(c) for c in color], hint["color"] if hint else None)
@@ -252,14 +262,14 @@ def light_from_blender(name, light_type, matrix, color, energy, hint=None, setti
                 "intensity": intensity}
     if light_type == "POINT":
         position = _snap(_column(matrix, 3), hint["position"] if hint else None)
-        intensity = float(energy) / POINT_WATTS_PER_IRRADIANCE
+        intensity = float(energy) / units.point_watts_per_irradiance
         if hint is not None and is_close(intensity, hint["intensity"]):
             intensity = hint["intensity"]
         return {"type": "point", "position": position, "color": color, "intensity": intensity}
     if settings is None:
         raise ClothbakeError(f"the {kind} light's settings are missing", "", f"light '{name}'")
     light = (_spot_from_blender if light_type == "SPOT" else _area_from_blender)(
-        name, matrix, energy, settings, hint)
+        name, matrix, energy, settings, hint, units)
     if hint is not None and is_close(light["intensity"], hint["intensity"]):
         light["intensity"] = hint["intensity"]
     light["color"] = color

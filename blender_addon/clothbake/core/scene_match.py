@@ -53,7 +53,8 @@ def _same_light(a, b, tol):
         return False
     if a["type"] == "spot":
         return is_close(a["spot_size_deg"], b["spot_size_deg"], tol) and \
-            is_close(a["spot_blend"], b["spot_blend"], tol)
+            is_close(a["spot_blend"], b["spot_blend"], tol) and \
+            a.get("axis_cosine", True) == b.get("axis_cosine", True)
     return (a["shape"] == b["shape"] and is_close(normalized(a["x_axis"]),
                                                 normalized(b["x_axis"]), tol)
             and type(a["size"]) is type(b["size"]) and is_close(a["size"], b["size"], tol))

@@ -197,18 +197,35 @@ TEST(SpotLight, BlendIsCyclesSmoothstepOnTheCosine) {
   const float c = float(std::cos(30.0 * k_pi / 180.0));
   const float smooth = (1.0f - c) * 0.4f;
   // Half-way through the band: smoothstep(0.5) = 0.5; the band's inner end: 1.
-  EXPECT_NEAR(spot_attenuation(c + 0.5f * smooth, c, smooth), 0.5f * (c + 0.5f * smooth), 1e-6f);
-  EXPECT_NEAR(spot_attenuation(c + smooth, c, smooth), c + smooth, 1e-6f);
-  EXPECT_NEAR(spot_attenuation(c + 0.25f * smooth, c, smooth),
+  EXPECT_NEAR(spot_attenuation(c + 0.5f * smooth, c, smooth, true), 0.5f * (c + 0.5f * smooth), 1e-6f);
+  EXPECT_NEAR(spot_attenuation(c + smooth, c, smooth, true), c + smooth, 1e-6f);
+  EXPECT_NEAR(spot_attenuation(c + 0.25f * smooth, c, smooth, true),
               (c + 0.25f * smooth) * 0.15625f, 1e-6f);  // 3/16 - 2/64
-  EXPECT_EQ(spot_attenuation(c, c, smooth), 0.0f);
-  EXPECT_EQ(spot_attenuation(1.0f, c, smooth), 1.0f);
+  EXPECT_EQ(spot_attenuation(c, c, smooth, true), 0.0f);
+  EXPECT_EQ(spot_attenuation(1.0f, c, smooth, true), 1.0f);
   // Monotonic from the edge to the axis.
   float last = 0.0f;
   for (int i = 0; i <= 100; ++i) {
-    const float a = spot_attenuation(c + (1.0f - c) * float(i) / 100.0f, c, smooth);
+    const float a = spot_attenuation(c + (1.0f - c) * float(i) / 100.0f, c, smooth, true);
     EXPECT_GE(a, last);
     last = a;
+  }
+}
+
+// Blender 4.0 and later: the same band without the cosine, so 1 anywhere
+// inside it and the smoothstep alone across it; the two masks' ratio is
+// the cosine everywhere in the cone.
+TEST(SpotLight, WithoutTheAxisCosineTheMaskIsTheSmoothstepAlone) {
+  const float c = float(std::cos(30.0 * k_pi / 180.0));
+  const float smooth = (1.0f - c) * 0.4f;
+  EXPECT_NEAR(spot_attenuation(c + 0.5f * smooth, c, smooth, false), 0.5f, 1e-6f);
+  EXPECT_NEAR(spot_attenuation(c + 0.25f * smooth, c, smooth, false), 0.15625f, 1e-6f);
+  EXPECT_EQ(spot_attenuation(c + smooth, c, smooth, false), 1.0f);
+  EXPECT_EQ(spot_attenuation(c, c, smooth, false), 0.0f);
+  for (int i = 1; i <= 100; ++i) {
+    const float cos_axis = c + (1.0f - c) * float(i) / 100.0f;
+    EXPECT_NEAR(spot_attenuation(cos_axis, c, smooth, true),
+                cos_axis * spot_attenuation(cos_axis, c, smooth, false), 1e-6f);
   }
 }
 

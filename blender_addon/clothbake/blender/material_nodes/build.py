@@ -9,7 +9,7 @@ from .common import mix
 from .components import components
 from .frame import shading_frame, view_direction
 from .level import footprint_level
-from .lights import light_terms, world_terms
+from .lights import UNITS, light_terms, world_terms
 from .shaders import shaders
 from .sockets import new_group
 from .view import parallax_shift, randoms, view_node
@@ -62,6 +62,8 @@ def build_group(name, info, pack, coeff_image, light_image, kinds, route, strips
         kinds = ["POINT"] * kinds
     key = f"{GROUP_VERSION} {pack.folder} {pack.rank} {pack.dense} {len(kinds)}" \
           f"{layout_suffix(kinds)} {route} {pack.width}x{pack.height}"
+    if "SPOT" in kinds:
+        key += f" spot mask {UNITS.name}"     # the cone's mask changed in Blender 4.0
     if info.parallax_depth_mm > 0:
         key += f" parallax {info.parallax_depth_mm!r}"
     if index_image is not None:

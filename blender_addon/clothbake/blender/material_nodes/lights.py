@@ -3,17 +3,23 @@ direction and irradiance at the shading point and the address of its light
 factors."""
 import math
 
+import bpy
+
+from ...core.light_units import light_units
 from ...core.material_manifest import HORIZON
 from .common import BLACK, LightTerm, mix
 from .directions import hemi_octahedral, horizon_warp, pick_node, to_frame
 from .frame import frame_scaled
 
+UNITS = light_units(bpy.app.version)
+
 
 def _spot_mask(g, gin, l, direction, col):
-    """Cycles 3.x's spot attenuation (measured in Blender 3.4: it holds the
-    cosine itself): a = cos(angle between the light's axis and the way to
-    the point), a x smoothstep((a - cos(size / 2)) / smooth), 0 outside the
-    cone; smooth = (1 - cos(size / 2)) x blend, 0 for a hard edge."""
+    """Cycles' spot attenuation in this Blender (core/light_units.py): a =
+    cos(angle between the light's axis and the way to the point), smoothstep(
+    (a - cos(size / 2)) / smooth), 0 outside the cone; smooth = (1 - cos(size
+    / 2)) x blend, 0 for a hard edge. Up to 3.x the mask is a times that
+    (measured in 3.4); from 4.0 it is the smoothstep alone (4.3, 5.2)."""
     a = g.math("MULTIPLY", g.vmath("DOT_PRODUCT", direction, gin[f"Light {l} axis"],
                                    column=col), -1.0, column=col)
     t = g.math("DIVIDE", g.math("SUBTRACT", a, gin[f"Light {l} cos half angle"], column=col),
@@ -21,7 +27,7 @@ def _spot_mask(g, gin, l, direction, col):
                clamp=True)
     smooth = g.math("MULTIPLY", g.math("MULTIPLY", t, t, column=col),
                     g.math("MULTIPLY_ADD", t, -2.0, 3.0, column=col), column=col)
-    return g.math("MULTIPLY", a, smooth, column=col)
+    return g.math("MULTIPLY", a, smooth, column=col) if UNITS.spot_axis_cosine else smooth
 
 
 def _area_offset(g, gin, l, xis, col):
