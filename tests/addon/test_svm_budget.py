@@ -26,3 +26,18 @@ def test_the_note_starts_one_term_past_each_limit():
                                      route) is None
         note = svm_budget.stack_note(["AREA"] + ["POINT"] * (limit - 1), colour_free, route)
         assert note is not None and "area light counts two" in note
+
+
+def test_blender_5_has_its_own_limits():
+    """5.x's limits (measured in 5.2.2): the exact route's edge is lower,
+    and cycles-lit fits under no light at all; 3.x and 4.x keep 3.4's."""
+    assert svm_budget.term_limit(True, "exact", (4, 3, 2)) == \
+        svm_budget.LIGHT_TERM_LIMIT[(True, "exact")]
+    limit = svm_budget.term_limit(True, "exact", (5, 2, 2))
+    assert limit < svm_budget.LIGHT_TERM_LIMIT[(True, "exact")]
+    assert svm_budget.stack_note(["POINT"] * limit, True, "exact", (5, 2, 2)) is None
+    assert "past" in svm_budget.stack_note(["POINT"] * (limit + 1), True, "exact", (5, 2, 2))
+    note = svm_budget.stack_note([], True, "cycles-lit", (5, 2, 2))
+    assert note is not None and "use the exact route" in note and "Blender 5.2" in note
+    assert "single light" in note
+    assert svm_budget.stack_note(["POINT"], True, "cycles-lit", (4, 3, 2)) is None

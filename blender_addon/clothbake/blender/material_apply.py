@@ -328,7 +328,7 @@ def apply_material(obj, folder, route="exact", rank=None, scene=None, depsgraph=
 
     key = os.path.basename(pack.folder)
     kinds = light_kinds(lights)
-    stack = stack_note(kinds, info.parts == SWF, route)
+    stack = stack_note(kinds, info.parts == SWF, route, tuple(bpy.app.version))
     if stack:
         notes.append(stack)
     # A colour-free material's group holds the object's own colour strips:

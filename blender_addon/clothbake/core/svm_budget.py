@@ -36,6 +36,30 @@ LIGHT_TERM_LIMIT = {
 }
 
 
+# Blender 5.x inlines node groups before Cycles compiles them, and the same
+# group then holds far more of the stack: the default paper material
+# (R 32, K 16, KL 10, colour-free) with two point lights compiles to 5079
+# SVM nodes at a peak of 187 floats in 5.2.2, against 1453 nodes and 72 in
+# 3.4.1 and 4.3.2 (scripts/dev/svm_peak.sh in each). Measured in 5.2.2 with
+# that material and N point lights: exact 10 lights at 240, 12 overflowed;
+# cycles-lit overflowed with one light and the world (a small material,
+# R 16, K 6, KL 6, compiles with two). None: no count is known to compile,
+# and Apply material cautions on every cycles-lit group.
+LIGHT_TERM_LIMIT_5 = {
+    (True, "exact"): 11,
+    (True, "cycles-lit"): None,
+    (False, "exact"): 11,
+    (False, "cycles-lit"): None,
+}
+
+
+def term_limit(colour_free, route, blender_version=(3, 4, 0)):
+    """The most light terms that compile for the route in this Blender
+    (None: none does)."""
+    table = LIGHT_TERM_LIMIT_5 if tuple(blender_version[:2]) >= (5, 0) else LIGHT_TERM_LIMIT
+    return table[(bool(colour_free), route)]
+
+
 # The world's terms per route: cycles-lit reads the world's factors twice.
 WORLD_TERMS = {"exact": 0, "cycles-lit": 2}
 
@@ -47,11 +71,18 @@ def light_terms(kinds, route="exact"):
     return sum(2 if k == "AREA" else 1 for k in kinds) + WORLD_TERMS[route]
 
 
-def stack_note(kinds, colour_free, route):
+def stack_note(kinds, colour_free, route, blender_version=(3, 4, 0)):
     """Apply material's note when the lights are past the measured limit of
-    the route, else None."""
+    the route in this Blender (LIGHT_TERM_LIMIT up to 4.x,
+    LIGHT_TERM_LIMIT_5 from 5.0), else None."""
     terms = light_terms(kinds, route)
-    limit = LIGHT_TERM_LIMIT[(bool(colour_free), route)]
+    limit = term_limit(colour_free, route, blender_version)
+    if limit is None:
+        return (f"in Blender {blender_version[0]}.{blender_version[1]} the {route} route "
+                "overflows Cycles' shader stack for a material of the default size under a "
+                "single light (measured in 5.2); if the cloth renders black and the console "
+                "says 'out of SVM stack space', use the exact route "
+                "(docs/design/material.md, 'Lights and the SVM stack')")
     if terms <= limit:
         return None
     areas = sum(1 for k in kinds if k == "AREA")
