@@ -133,6 +133,12 @@ def new_user_scene():
     return plane, spot, area
 
 
+# An area light's radiance per watt: P / (4 A) up to Blender 3.x, P / (pi A)
+# from 4.0 (measured on a white plane in 3.4.1, 4.3.2 and 5.2.2:
+# docs/design/blender-nodes.md), so clothbake's intensity per watt.
+AREA_INTENSITY_PER_WATT = 0.25 if bpy.app.version < (4, 0, 0) else 1.0 / math.pi
+
+
 def check_drivers(what, plane, area, spot):
     """The group's light inputs as the drivers evaluate them, against the
     lights' own settings and world matrices (lights in name order: the
@@ -148,7 +154,7 @@ def check_drivers(what, plane, area, spot):
     want = {"Light 0 vector": m.translation, "Light 0 axis": -m.col[2].xyz.normalized(),
             "Light 0 side u": m.col[0].xyz * d.size, "Light 0 side v": m.col[1].xyz * size_y,
             "Light 0 ellipse": [1.0 if d.shape in ("DISK", "ELLIPSE") else 0.0],
-            "Light 0 irradiance": Vector(d.color) * d.energy / 4.0}
+            "Light 0 irradiance": Vector(d.color) * d.energy * AREA_INTENSITY_PER_WATT}
     m, d = spot.matrix_world, spot.data
     c = math.cos(d.spot_size / 2)
     want.update({"Light 1 vector": m.translation, "Light 1 axis": -m.col[2].xyz.normalized(),
