@@ -260,8 +260,14 @@ def world_per_route(scene, plane, spot, area, apply_material, material, export_s
     ratio = float(gain[cloth].mean() / alone[0][cloth].mean())
     print(f"world beside the sun: gain {gain[cloth].mean():.4f} against the world alone "
           f"{alone[0][cloth].mean():.4f} (ratio {ratio:.4f})", flush=True)
-    check(abs(ratio - 1.0) <= 0.03, f"cycles-lit: the world adds beside a sun what it gives "
-                                    f"alone ({ratio:.4f}, within 3 %)")
+    if bpy.app.version >= (5, 0, 0):
+        # A sun and the world overflow 5.x's SVM stack on this group (the
+        # caution is checked with the rig below).
+        print("world beside the sun: not checked in Blender 5.x (cycles-lit overflows "
+              "Cycles' SVM stack there)", flush=True)
+    else:
+        check(abs(ratio - 1.0) <= 0.03, f"cycles-lit: the world adds beside a sun what it "
+                                        f"gives alone ({ratio:.4f}, within 3 %)")
     # The world above the cloth blocked (a plane hidden from the camera):
     # what is left is the light through the cloth from the world below, the
     # group's Emission part (the other hemisphere's factors); the viewer's
@@ -349,6 +355,15 @@ def light_rig(scene, plane, lights, apply_material, material):
           f"exact route: the rig's render is the sum of its {len(rig)} single-light renders "
           f"(share of pixels over 1e-4 x the peak {over:.2e} <= 1e-3; max {diff:.2e} <= "
           f"1e-2 x {full.max():.4f})")
+    if bpy.app.version >= (5, 0, 0):
+        # Blender 5.x's Cycles overflows its SVM stack on cycles-lit groups of
+        # this size (docs/design/material.md, "Lights and Cycles' SVM stack"):
+        # what is checked there is that Apply material says so.
+        _, notes = apply_material(plane, material, route="cycles-lit")
+        check(any("overflows Cycles' shader stack" in n for n in notes),
+              f"cycles-lit in Blender {bpy.app.version_string}: Apply material cautions that "
+              f"the route overflows Cycles' SVM stack ({notes})")
+        return
     scene.cycles.samples = 16
     exact = rgb(render_still(os.path.join(TMP, "rig_exact16.exr")))
     apply_material(plane, material, route="cycles-lit")
