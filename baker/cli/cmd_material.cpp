@@ -38,6 +38,7 @@ namespace {
 struct MaterialArgs {
   std::string input, out_dir, object;
   MaterialSettings settings;
+  MaterialChoiceOptions choice;  ///< --address and whether --texels was given
   float depth_scale = 0.0f;  // 0: the scene object's, or 1 for a spec
   int threads = 0;
   double memory_gib = 0.0;
@@ -63,15 +64,32 @@ io::MaterialInput read_input(const MaterialArgs& args, uint64_t budget) {
   return in;
 }
 
-/// Said before the work, not refused (bake_rules.h, TexelAdvice).
-void warn_texels(const TexelAdvice& a, const MaterialSettings& s, const io::MaterialInput& in) {
+/// Said before the work, not refused (bake_rules.h, TexelAdvice): only a
+/// whole repeat the user asked for can leave too few texels a thread. The
+/// advice is more texels where they fit the budget, else per crossing.
+void warn_texels(const TexelAdvice& a, const MaterialSettings& s, const io::MaterialInput& in,
+                 int threads, uint64_t budget) {
   if (!a.too_few()) return;
+  MaterialSettings more = s;
+  more.texels = a.advised_texels;
+  const uint64_t bytes =
+      material_bake_fixed_bytes(unbaked_material(in.source, more), *in.source.volume, threads);
+  char advice[256];
+  if (bytes <= budget)
+    std::snprintf(advice, sizeof advice, "--texels %d gives %.1f (the bake holds about %llu MiB)",
+                  a.advised_texels, double(a.advised_texels) / a.threads_across,
+                  (unsigned long long)(bytes >> 20));
+  else if (in.source.parts == MaterialParts::SpecularWarpWeft)
+    std::snprintf(advice, sizeof advice,
+                  "more texels would not fit --memory; leave --address out, or give "
+                  "--address crossings, to address the texels per crossing");
+  else
+    std::snprintf(advice, sizeof advice, "more texels would not fit --memory");
   std::fprintf(stderr,
                "clothbake: warning: --texels %d spans %d x %d threads per repeat: %.2f texels "
                "per thread, too few to resolve the weave (at least 2; the paper cloth has "
-               "16). --texels %d gives %.1f (see --estimate for its cost).\n",
-               s.texels, in.ends, in.picks, a.texels_per_thread, a.advised_texels,
-               double(a.advised_texels) / a.threads_across);
+               "16). %s.\n",
+               s.texels, in.ends, in.picks, a.texels_per_thread, advice);
 }
 
 /// What the report and --estimate add (the add-on shows it as the warning).
@@ -96,17 +114,37 @@ void run_material(const MaterialArgs& args) {
   const io::MaterialInput in = read_input(args, budget);
   const MaterialSource& src = in.source;
   settings.parts = src.parts;
-  const TexelAdvice advice = texel_advice(settings, in.ends, in.picks);
+  BakeRequest request = bake_request(args.choice, settings);
+  // A part of a sharded bake: per crossing is baked whole, so auto is the repeat.
+  if (!shard.whole() && !request.address) request.address = MaterialAddress::Repeat;
+  BakePlan plan;
   try {
+    // The settings as given first (ranges, parts, shard), then as chosen.
+    MaterialSettings asked = settings;
+    asked.address = request.address.value_or(MaterialAddress::Repeat);
+    check_material_bake(src, asked, shard);
+    plan = plan_material_bake(src, settings, request, in.ends, in.picks, threads, budget);
+    settings = plan.settings;
     check_material_bake(src, settings, shard);
-    warn_texels(advice, settings, in);
-    check_material_memory(unbaked_material(src, settings), *src.volume, threads, budget);
+    if (request.address) warn_texels(texel_advice(settings, in.ends, in.picks), settings, in,
+                                     threads, budget);
+    if (!plan.fits) {
+      const std::string advice = advice_for_memory(src, plan, threads, budget);
+      throw InputError("memory", "the bake needs at least " + std::to_string(plan.fixed_bytes >> 20) +
+                                     " MiB (light fields and the view tables it holds), over the "
+                                     "budget of " + std::to_string(budget >> 20) + " MiB: " +
+                                     plan.why + "; " +
+                                     (advice.empty() ? "lower --light-directions or raise --memory"
+                                                     : advice));
+    }
   } catch (const InputError& e) {
     throw with_flag(k_material_flags, e);
   }
+  const TexelAdvice advice = texel_advice(settings, in.ends, in.picks);
   if (args.estimate) {
     nlohmann::json j = io::material_estimate_json(
         settings, probe_material(src, settings, threads, shard), threads);
+    j["plan"] = plan.why;
     add_texels(advice, j);
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -128,6 +166,7 @@ void run_material(const MaterialArgs& args) {
   info.stats = stats;
   io::write_material(args.out_dir, material, info);
   nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
+  report["plan"] = plan.why;
   add_texels(advice, report);
   std::printf("%s\n", report.dump().c_str());
 }
@@ -140,7 +179,7 @@ void register_material_command(CLI::App& app, Action action) {
       "material", "Bake a cloth material: one weave repeat for every view, light and distance");
   cmd->add_option("input", args->input, "cloth spec or scene JSON")->required();
   cmd->add_option("-o,--out", args->out_dir, "material folder to write")->required();
-  add_material_setting_options(cmd, s);
+  add_material_setting_options(cmd, s, args->choice);
   cmd->add_option("--depth-scale", args->depth_scale,
                   "texture mm per world unit along the normal over along the surface "
                   "(default: the scene object's; 1 for a spec)");

@@ -23,7 +23,7 @@ CLI::Option* add_enum_option(CLI::App* cmd, const std::string& flag, E& value,
 }
 /// The settings a user chooses: how fine, how many directions, how exact, and
 /// what the texels cover.
-void add_everyday_options(CLI::App* cmd, MaterialSettings& s) {
+void add_everyday_options(CLI::App* cmd, MaterialSettings& s, MaterialChoiceOptions& choice) {
   // The checks of material_settings.h that a range cannot state.
   const CLI::Validator power_of_two(
       [](std::string& v) {
@@ -33,9 +33,12 @@ void add_everyday_options(CLI::App* cmd, MaterialSettings& s) {
                    : "must be a power of 2 (the mip levels halve it down to 1), got " + v;
       },
       "POWER OF 2");
-  cmd->add_option("--texels", s.texels, "R: texels per repeat side, a power of 2")
-      ->check(in_range(k_min_material_texels, k_max_material_texels) & power_of_two)
-      ->capture_default_str();
+  choice.texels =
+      cmd->add_option("--texels", s.texels,
+                      "R: texels per repeat side (per crossing side when addressed per "
+                      "crossing), a power of 2; default: 32 for the whole repeat, " +
+                          std::to_string(k_auto_crossing_texels) + " per crossing")
+          ->check(in_range(k_min_material_texels, k_max_material_texels) & power_of_two);
   cmd->add_option("--directions", s.directions, "K: view nodes per side of each hemisphere")
       ->check(in_range(k_min_material_directions, k_max_material_directions))
       ->capture_default_str();
@@ -50,10 +53,14 @@ void add_everyday_options(CLI::App* cmd, MaterialSettings& s) {
                   "per view node: relative RMSE the factorisation may leave (0 = exact)")
       ->check(in_range(k_min_material_error, k_max_material_error))
       ->capture_default_str();
-  add_enum_option(cmd, "--address", s.address, io::k_material_address_names,
+  cmd->add_option("--address", choice.address,
                   "what the texels cover: the whole repeat (--texels per repeat side), or one "
                   "block per distinct crossing neighbourhood, addressed per crossing (--texels "
-                  "per crossing side): its size follows the weave's variety, not its repeat");
+                  "per crossing side): its size follows the weave's variety, not its repeat; "
+                  "auto: the whole repeat where it leaves 2 texels a thread and fits --memory, "
+                  "else per crossing")
+      ->check(CLI::IsMember({"auto", "repeat", "crossings"}))
+      ->capture_default_str();
 }
 
 /// Knobs of the bake's numerics, each with a measured default: touched to
@@ -111,8 +118,17 @@ void add_expert_options(CLI::App* cmd, MaterialSettings& s) {
 }
 }  // namespace
 
-void add_material_setting_options(CLI::App* cmd, MaterialSettings& s) {
-  add_everyday_options(cmd, s);
+BakeRequest bake_request(const MaterialChoiceOptions& choice, const MaterialSettings& settings) {
+  BakeRequest r;
+  MaterialAddress address = MaterialAddress::Repeat;
+  if (io::parse_enum(io::k_material_address_names, choice.address, address)) r.address = address;
+  if (choice.texels != nullptr && choice.texels->count() > 0) r.texels = settings.texels;
+  return r;
+}
+
+void add_material_setting_options(CLI::App* cmd, MaterialSettings& s,
+                                  MaterialChoiceOptions& choice) {
+  add_everyday_options(cmd, s, choice);
   add_expert_options(
       cmd->add_option_group(
           "Expert", "the bake's numerics; their defaults are measured (docs/design/material.md)"),

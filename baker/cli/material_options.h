@@ -6,6 +6,7 @@
 
 #include "cli/setting_flags.h"
 #include "core/material/material_settings.h"
+#include "core/material_bake/bake_plan.h"
 
 namespace clothbake::cli {
 
@@ -29,8 +30,20 @@ inline constexpr SettingFlag k_material_flags[] = {{"texels", "--texels"},
                                                    {"object", "--object"},
                                                    {"memory", "--memory"}};
 
+/// What the bake chooses when the user does not (bake_plan.h): the address,
+/// "auto" unless given, and the texels, whether --texels was given.
+struct MaterialChoiceOptions {
+  std::string address = "auto";
+  CLI::Option* texels = nullptr;
+};
+
 /// Adds an option per field of `settings` to `cmd`, each checked against the
-/// ranges of material_settings.h, with its default shown.
-void add_material_setting_options(CLI::App* cmd, MaterialSettings& settings);
+/// ranges of material_settings.h, with its default shown; --address and
+/// --texels also fill `choice`.
+void add_material_setting_options(CLI::App* cmd, MaterialSettings& settings,
+                                  MaterialChoiceOptions& choice);
+
+/// The request `choice` makes, after parsing (`settings` holds the texels given).
+BakeRequest bake_request(const MaterialChoiceOptions& choice, const MaterialSettings& settings);
 
 }  // namespace clothbake::cli

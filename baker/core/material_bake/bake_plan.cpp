@@ -1,0 +1,87 @@
+#include "core/material_bake/bake_plan.h"
+
+#include <cstdio>
+
+#include "core/material_bake/bake_rules.h"
+#include "core/material_bake/material_bake.h"
+
+namespace clothbake {
+
+namespace {
+std::string mib(uint64_t bytes) { return std::to_string((bytes + (1u << 19)) >> 20) + " MiB"; }
+
+std::string fixed(double v, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+uint64_t fixed_bytes_of(const MaterialSource& source, const MaterialSettings& s, int threads) {
+  return material_bake_fixed_bytes(unbaked_material(source, s), *source.volume, threads);
+}
+
+std::string mode_name(const MaterialSettings& s) {
+  return s.address == MaterialAddress::Crossings
+             ? "per crossing at " + std::to_string(s.texels) + " texels"
+             : "the whole repeat at " + std::to_string(s.texels) + " texels";
+}
+}  // namespace
+
+BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings& settings,
+                            const BakeRequest& request, int ends, int picks, int threads,
+                            uint64_t budget_bytes) {
+  BakePlan plan;
+  plan.settings = settings;
+  MaterialSettings& s = plan.settings;
+  if (request.texels) s.texels = *request.texels;
+  auto finish = [&](std::string why) {
+    plan.fixed_bytes = fixed_bytes_of(source, s, threads);
+    plan.fits = plan.fixed_bytes <= budget_bytes;
+    plan.why = mode_name(s) + " (" + why + "; the bake holds " + mib(plan.fixed_bytes) +
+               " before its table grows)";
+    return plan;
+  };
+  if (request.address) {
+    s.address = *request.address;
+    return finish("as asked");
+  }
+  s.address = MaterialAddress::Repeat;
+  if (s.parts != MaterialParts::SpecularWarpWeft)
+    return finish("RGB parts: per crossing needs colour-free ones");
+  const TexelAdvice advice = texel_advice(s, ends, picks);
+  const uint64_t whole = fixed_bytes_of(source, s, threads);
+  std::string why;
+  if (advice.too_few())
+    why = "the whole repeat spans " + std::to_string(advice.threads_across) + " threads: " +
+          fixed(advice.texels_per_thread, 2) + " texels a thread at " +
+          std::to_string(s.texels) + ", below " + fixed(k_min_texels_per_thread, 0);
+  else if (whole > budget_bytes)
+    why = "the whole repeat at " + std::to_string(s.texels) + " texels would hold " +
+          mib(whole) + ", over the budget of " + mib(budget_bytes);
+  else if (advice.known())
+    return finish(fixed(advice.texels_per_thread, 1) + " texels a thread, within the budget");
+  else
+    return finish("within the budget");
+  s.address = MaterialAddress::Crossings;
+  if (!request.texels) s.texels = k_auto_crossing_texels;
+  return finish(why);
+}
+
+std::string advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
+                              uint64_t budget_bytes) {
+  if (source.parts != MaterialParts::SpecularWarpWeft) return {};
+  MaterialSettings s = plan.settings;
+  s.address = MaterialAddress::Crossings;
+  for (int texels : {k_auto_crossing_texels, 4, 2}) {
+    if (plan.settings.address == MaterialAddress::Crossings && texels >= plan.settings.texels)
+      continue;
+    s.texels = texels;
+    const uint64_t bytes = fixed_bytes_of(source, s, threads);
+    if (bytes <= budget_bytes)
+      return "--address crossings --texels " + std::to_string(texels) + ": the bake holds about " +
+             mib(bytes);
+  }
+  return {};
+}
+
+}  // namespace clothbake

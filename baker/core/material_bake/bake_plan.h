@@ -1,0 +1,56 @@
+#pragma once
+/// The address and texels a bake takes when the user leaves them to it
+/// (`clothbake material` with no --address, the panel's "Automatic"), and
+/// why, in one line: the whole repeat where it resolves the threads and fits
+/// the memory budget, else one block per crossing class. The paper cloth
+/// keeps the whole repeat at 32 texels (its bytes unchanged).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "core/material/material_settings.h"
+#include "core/material_bake/material_source.h"
+
+namespace clothbake {
+
+/// Texels per crossing side the automatic choice takes per crossing: the
+/// 91 x 480-thread overshot of testscenes/wif/real baked there in 4.6 GB
+/// where 32 needed 53 GB (docs/design/material.md, "Automatic address").
+inline constexpr int k_auto_crossing_texels = 8;
+
+/// What the user fixed; an empty field is chosen by plan_material_bake.
+struct BakeRequest {
+  std::optional<MaterialAddress> address;
+  std::optional<int> texels;
+};
+
+struct BakePlan {
+  MaterialSettings settings;  ///< address and texels resolved
+  std::string why;            ///< one line: what was chosen, and why
+  uint64_t fixed_bytes = 0;   ///< material_bake_fixed_bytes of the choice
+  bool fits = true;           ///< fixed_bytes within the budget
+};
+
+/// Resolves `request` on `settings` for `source` (its repeat `ends` x
+/// `picks` threads; 0: unknown) baked on `threads` within `budget_bytes`:
+/// - an address the user fixed is kept;
+/// - RGB parts: the whole repeat (per crossing needs colour-free parts);
+/// - else the whole repeat at the requested texels (the settings' default
+///   when none) when it leaves at least k_min_texels_per_thread texels a
+///   thread and its fixed bytes fit the budget; otherwise per crossing at
+///   the requested texels, or k_auto_crossing_texels.
+/// `fits` says whether the choice fits the budget; the caller refuses
+/// with advice_for_memory when it does not.
+BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings& settings,
+                            const BakeRequest& request, int ends, int picks, int threads,
+                            uint64_t budget_bytes);
+
+/// A refusal's advice when `plan` does not fit: the first of the address
+/// per crossing and fewer texels (8, 4, 2 per crossing) that fits, with the
+/// bytes it holds, as the flags that give it ("--address crossings --texels
+/// 4: the bake holds about 830 MiB"); empty when none fits.
+std::string advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
+                              uint64_t budget_bytes);
+
+}  // namespace clothbake
