@@ -81,10 +81,10 @@ void warn_texels(const TexelAdvice& a, const MaterialSettings& s, const io::Mate
                   (unsigned long long)(bytes >> 20));
   else if (in.source.parts == MaterialParts::SpecularWarpWeft)
     std::snprintf(advice, sizeof advice,
-                  "more texels would not fit --memory; leave --address out, or give "
+                  "more texels would not fit --memory-gib; leave --address out, or give "
                   "--address crossings, to address the texels per crossing");
   else
-    std::snprintf(advice, sizeof advice, "more texels would not fit --memory");
+    std::snprintf(advice, sizeof advice, "more texels would not fit --memory-gib");
   std::fprintf(stderr,
                "clothbake: warning: --texels %d spans %d x %d threads per repeat: %.2f texels "
                "per thread, too few to resolve the weave (at least 2; the paper cloth has "
@@ -130,12 +130,12 @@ void run_material(const MaterialArgs& args) {
                                      threads, budget);
     if (!plan.fits) {
       const std::string advice = advice_for_memory(src, plan, threads, budget);
-      throw InputError("memory", "the bake needs at least " + std::to_string(plan.fixed_bytes >> 20) +
-                                     " MiB (light fields and the view tables it holds), over the "
-                                     "budget of " + std::to_string(budget >> 20) + " MiB: " +
-                                     plan.why + "; " +
-                                     (advice.empty() ? "lower --light-directions or raise --memory"
-                                                     : advice));
+      throw InputError("memory", plan.mode + " holds " + std::to_string(plan.fixed_bytes >> 20) +
+                                     " MiB before its table grows (light fields and view tables), "
+                                     "over the budget of " + std::to_string(budget >> 20) +
+                                     " MiB (" + plan.reason + "). " +
+                                     (advice.empty() ? "Lower --light-directions or raise --memory-gib"
+                                                     : "Fits: " + advice));
     }
   } catch (const InputError& e) {
     throw with_flag(k_material_flags, e);

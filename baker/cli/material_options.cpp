@@ -57,7 +57,7 @@ void add_everyday_options(CLI::App* cmd, MaterialSettings& s, MaterialChoiceOpti
                   "what the texels cover: the whole repeat (--texels per repeat side), or one "
                   "block per distinct crossing neighbourhood, addressed per crossing (--texels "
                   "per crossing side): its size follows the weave's variety, not its repeat; "
-                  "auto: the whole repeat where it leaves 2 texels a thread and fits --memory, "
+                  "auto: the whole repeat where it leaves 2 texels a thread and fits --memory-gib, "
                   "else per crossing")
       ->check(CLI::IsMember({"auto", "repeat", "crossings"}))
       ->capture_default_str();

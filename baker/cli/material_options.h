@@ -28,7 +28,7 @@ inline constexpr SettingFlag k_material_flags[] = {{"texels", "--texels"},
                                                    {"parts", "--parts"},
                                                    {"depth_scale", "--depth-scale"},
                                                    {"object", "--object"},
-                                                   {"memory", "--memory"}};
+                                                   {"memory", "--memory-gib"}};
 
 /// What the bake chooses when the user does not (bake_plan.h): the address,
 /// "auto" unless given, and the texels, whether --texels was given.

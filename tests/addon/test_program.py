@@ -91,3 +91,22 @@ def test_texels_note():
         "0.52 texels per thread: too few to show the weave (Texels 256 gives 4.1)"
     assert program.texels_note({"texels": 32, "texels_per_thread": 16.0}) == ""
     assert program.texels_note({"texels": 32}) == ""   # a VDB volume: threads unknown
+
+
+def test_plan_note():
+    # The program's plans (cli.material_estimate): what was chosen and why,
+    # without the bytes; nothing for settings the user fixed.
+    auto = {"plan": "per crossing at 8 texels (30 blocks): the whole repeat spans 62 threads: "
+                    "0.52 texels a thread at 32, below 2; the bake holds 46 MiB before its "
+                    "table grows"}
+    assert program.plan_note(auto) == \
+        "per crossing at 8 texels (30 blocks): the whole repeat spans 62 threads: 0.52 texels " \
+        "a thread at 32, below 2"
+    paper = {"plan": "the whole repeat at 32 texels: 16.0 texels a thread, within the budget; "
+                     "the bake holds 433 MiB before its table grows"}
+    assert program.plan_note(paper) == \
+        "the whole repeat at 32 texels: 16.0 texels a thread, within the budget"
+    asked = {"plan": "per crossing at 8 texels (30 blocks): as asked; the bake holds 46 MiB "
+                     "before its table grows"}
+    assert program.plan_note(asked) == ""
+    assert program.plan_note({}) == ""

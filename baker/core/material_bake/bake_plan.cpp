@@ -16,13 +16,26 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
-uint64_t fixed_bytes_of(const MaterialSource& source, const MaterialSettings& s, int threads) {
-  return material_bake_fixed_bytes(unbaked_material(source, s), *source.volume, threads);
+/// The bytes the bake holds before its table grows, and its blocks (0: the whole repeat).
+struct Footprint {
+  uint64_t bytes = 0;
+  int blocks = 0;
+};
+
+Footprint footprint(const MaterialSource& source, const MaterialSettings& s, int threads) {
+  const ClothMaterial material = unbaked_material(source, s);
+  return {material_bake_fixed_bytes(material, *source.volume, threads),
+          material.addressed() ? material.layout().blocks : 0};
 }
 
-std::string mode_name(const MaterialSettings& s) {
+std::string blocks_text(int blocks) {
+  return std::to_string(blocks) + (blocks == 1 ? " block" : " blocks");
+}
+
+std::string mode_name(const MaterialSettings& s, int blocks) {
   return s.address == MaterialAddress::Crossings
-             ? "per crossing at " + std::to_string(s.texels) + " texels"
+             ? "per crossing at " + std::to_string(s.texels) + " texels (" + blocks_text(blocks) +
+                   ")"
              : "the whole repeat at " + std::to_string(s.texels) + " texels";
 }
 }  // namespace
@@ -35,10 +48,13 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
   MaterialSettings& s = plan.settings;
   if (request.texels) s.texels = *request.texels;
   auto finish = [&](std::string why) {
-    plan.fixed_bytes = fixed_bytes_of(source, s, threads);
+    const Footprint f = footprint(source, s, threads);
+    plan.fixed_bytes = f.bytes;
     plan.fits = plan.fixed_bytes <= budget_bytes;
-    plan.why = mode_name(s) + " (" + why + "; the bake holds " + mib(plan.fixed_bytes) +
-               " before its table grows)";
+    plan.mode = mode_name(s, f.blocks);
+    plan.reason = why;
+    plan.why = plan.mode + ": " + why + "; the bake holds " + mib(plan.fixed_bytes) +
+               " before its table grows";
     return plan;
   };
   if (request.address) {
@@ -49,7 +65,7 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
   if (s.parts != MaterialParts::SpecularWarpWeft)
     return finish("RGB parts: per crossing needs colour-free ones");
   const TexelAdvice advice = texel_advice(s, ends, picks);
-  const uint64_t whole = fixed_bytes_of(source, s, threads);
+  const uint64_t whole = footprint(source, s, threads).bytes;
   std::string why;
   if (advice.too_few())
     why = "the whole repeat spans " + std::to_string(advice.threads_across) + " threads: " +
@@ -76,10 +92,10 @@ std::string advice_for_memory(const MaterialSource& source, const BakePlan& plan
     if (plan.settings.address == MaterialAddress::Crossings && texels >= plan.settings.texels)
       continue;
     s.texels = texels;
-    const uint64_t bytes = fixed_bytes_of(source, s, threads);
-    if (bytes <= budget_bytes)
-      return "--address crossings --texels " + std::to_string(texels) + ": the bake holds about " +
-             mib(bytes);
+    const Footprint f = footprint(source, s, threads);
+    if (f.bytes <= budget_bytes)
+      return "--address crossings --texels " + std::to_string(texels) + ": " +
+             blocks_text(f.blocks) + ", the bake holds about " + mib(f.bytes);
   }
   return {};
 }

@@ -66,9 +66,14 @@ def _material_arguments(context, program, scene_path, index, folder):
     settings = context.scene.clothbake
     # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
     # colours recolour the applied material with no bake (docs/design/material.md).
-    return [program, "material", scene_path, "--object", str(index), "-o", folder,
-            *material_arguments(material_values(settings)), "--address",
-            settings.material_address, "--parts", "auto", "--threads",
+    # Automatic: the program chooses the address and its texels (the panel's
+    # Texels are for an address the user chose).
+    args = material_arguments(material_values(settings))
+    if settings.material_address == "auto":
+        i = args.index("--texels")
+        del args[i:i + 2]
+    return [program, "material", scene_path, "--object", str(index), "-o", folder, *args,
+            "--address", settings.material_address, "--parts", "auto", "--threads",
             str(prefs.threads(context))]
 
 
@@ -113,9 +118,9 @@ def estimate_material(context):
     seconds = float(report["seconds"])
     size = int(report["max_bytes"])
     settings = context.scene.clothbake
-    note = runner.texels_note(report)
-    settings.material_estimate = runner.estimate_text(seconds, size, bound="up to ") + \
-        (f"; {note}" if note else "")
+    notes = [n for n in (runner.plan_note(report), runner.texels_note(report)) if n]
+    settings.material_estimate = "; ".join([runner.estimate_text(seconds, size, bound="up to ")]
+                                           + notes)
     settings.material_estimate_for = _estimate_key(context)
     return seconds, size
 

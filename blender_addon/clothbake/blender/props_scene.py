@@ -144,8 +144,11 @@ ClothbakeSceneSettings = type("ClothbakeSceneSettings", (_SceneSettingsMethods,
         # texels, directions, light_directions, spp, max_error: the one table.
         **_material_properties(),
         "material_address": bpy.props.EnumProperty(
-            name="Address", default="repeat",
-            items=[("repeat", "Whole repeat", "Texels cover the weave's whole repeat (Texels per "
+            name="Address", default="auto",
+            items=[("auto", "Automatic", "The whole repeat where its texels resolve the threads "
+                    "(2 a thread) and the bake fits the memory, else per crossing at 8 texels: "
+                    "the estimate says which and why"),
+                   ("repeat", "Whole repeat", "Texels cover the weave's whole repeat (Texels per "
                     "repeat side): every crossing its own, the size grows with the repeat"),
                    ("crossings", "Per crossing", "One block per distinct crossing neighbourhood, "
                     "addressed per crossing (Texels per crossing side): the size follows the "

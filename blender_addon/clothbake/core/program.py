@@ -161,6 +161,19 @@ def texels_note(report):
             f"(Texels {advised} gives {advised * per_thread / report['texels']:.2g})")
 
 
+def plan_note(report):
+    """From a material report or estimate, what the bake chose and why, short
+    for the panel: "per crossing at 8 texels (30 blocks): the whole repeat
+    spans 62 threads: ..." (the program's `plan` less the bytes it holds); "" for
+    settings the user fixed, or a report without a plan."""
+    plan = report.get("plan", "")
+    mode, _, why = plan.partition(": ")
+    why = why.split("; the bake holds")[0]
+    if not mode or not why or why == "as asked":
+        return ""
+    return f"{mode}: {why}"
+
+
 def estimate_text(seconds, size, bound=""):
     """An estimate as the panel shows it (short: the panel is narrow); `bound`
     ("up to ") when the size is an upper bound."""
