@@ -8,6 +8,7 @@ import bpy
 
 from ..core import program as runner
 from ..core import scene_export, scene_match
+from ..core.defaults import MATERIAL_DEFAULTS
 from ..core.errors import ClothbakeError
 from ..core.material_manifest import read_material
 from ..core.material_settings import (check_material_values, material_arguments, material_key,
@@ -66,10 +67,12 @@ def _material_arguments(context, program, scene_path, index, folder):
     settings = context.scene.clothbake
     # --parts auto: a fibre-shaded cloth bakes colour-free, so the panel's
     # colours recolour the applied material with no bake (docs/design/material.md).
-    # Automatic: the program chooses the address and its texels (the panel's
-    # Texels are for an address the user chose).
+    # Automatic with Texels at its default: the program chooses the texels
+    # with the address (32 over the whole repeat, 8 per crossing); Texels
+    # the user set are kept whichever address it takes.
     args = material_arguments(material_values(settings))
-    if settings.material_address == "auto":
+    if settings.material_address == "auto" and \
+            settings.material_texels == MATERIAL_DEFAULTS["texels"]:
         i = args.index("--texels")
         del args[i:i + 2]
     return [program, "material", scene_path, "--object", str(index), "-o", folder, *args,

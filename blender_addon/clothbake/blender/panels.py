@@ -252,10 +252,7 @@ class CLOTHBAKE_PT_material(_ObjectPanel, bpy.types.Panel):
         col.prop(settings, "material_dir")
         col.prop(settings, "material_address")
         for setting in MATERIAL_SETTINGS:
-            row = col.row()
-            # Automatic chooses the texels with the address (the estimate says which).
-            row.active = setting.name != "texels" or settings.material_address != "auto"
-            row.prop(settings, setting.prop)
+            col.prop(settings, setting.prop)
         col.prop(settings, "material_route")
         _estimate_row(col, material_estimate_is_current(context), settings.material_estimate,
                       CLOTHBAKE_OT_material_estimate)

@@ -146,8 +146,8 @@ ClothbakeSceneSettings = type("ClothbakeSceneSettings", (_SceneSettingsMethods,
         "material_address": bpy.props.EnumProperty(
             name="Address", default="auto",
             items=[("auto", "Automatic", "The whole repeat where its texels resolve the threads "
-                    "(2 a thread) and the bake fits the memory, else per crossing at 8 texels: "
-                    "the estimate says which and why"),
+                    "(2 a thread) and the bake fits the memory, else per crossing (at 8 texels "
+                    "while Texels is at its default): the estimate says which and why"),
                    ("repeat", "Whole repeat", "Texels cover the weave's whole repeat (Texels per "
                     "repeat side): every crossing its own, the size grows with the repeat"),
                    ("crossings", "Per crossing", "One block per distinct crossing neighbourhood, "
