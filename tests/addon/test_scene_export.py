@@ -250,7 +250,7 @@ def test_light_watts_from_blender_4():
 
 
 def test_light_exposure_and_unsupported_settings():
-    """Exposure (4.0 on) multiplies the watts by 2^exposure; Temperature on
+    """Exposure (5.x) multiplies the watts by 2^exposure; Temperature on
     or Normalize off (5.x) is refused naming the light and the setting."""
     assert effective_watts(10.0) == 10.0
     assert effective_watts(10.0, 2.0) == pytest.approx(40.0)

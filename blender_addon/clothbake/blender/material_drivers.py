@@ -4,7 +4,7 @@ render visibility, a spot's axis and cone, an area light's axis, sides and
 shape, and the camera's pixel angle and Cycles' samples.
 
 They read each light object's world transform, colour, power (and
-Exposure from Blender 4.0) and render visibility (BLENDER_NOTES.md: simple expressions, no script
+Exposure where the light has one: 5.x) and render visibility (BLENDER_NOTES.md: simple expressions, no script
 auto-run needed). A Texture Coordinate node set to an empty would need one
 empty per light kept aligned with it; drivers read the light itself.
 """
@@ -80,7 +80,7 @@ def drive_light(node, l, light_obj):
         per = 1.0 / UNITS.watts_per_intensity(kind if kind in ("SPOT", "AREA") else "POINT")
     node.inputs[f"Light {l} point"].default_value = 0.0 if light_obj.data.type == "SUN" else 1.0
     irr = node.inputs[f"Light {l} irradiance"]
-    exposure = hasattr(light_obj.data, "exposure")      # Blender 4.0 on: watts x 2^x
+    exposure = hasattr(light_obj.data, "exposure")      # 5.x (not 4.3): watts x 2^x
     for axis in range(3):
         _driver(irr, axis, f"c*e*{float(per)!r}*(1-h)" + ("*pow(2,x)" if exposure else ""),
                 [("c", "SINGLE_PROP", light_obj, "OBJECT", f"data.color[{axis}]"),

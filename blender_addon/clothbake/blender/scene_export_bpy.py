@@ -100,7 +100,7 @@ UNITS = light_units(bpy.app.version)
 
 
 def light_watts(data):
-    """A light's watts with its Exposure (Blender 4.0 on) applied."""
+    """A light's watts with its Exposure (Blender 5.x; 4.3 has none) applied."""
     return effective_watts(data.energy, getattr(data, "exposure", 0.0))
 
 

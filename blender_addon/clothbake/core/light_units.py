@@ -15,9 +15,9 @@ samples, in 3.4.1, 4.3.2 and 5.2.2 (lab/light_units/):
   brighter for the same watts). clothbake's area intensity is radiance x
   area, so I = P / 4 or P / pi.
 
-From 4.0 a light also has Exposure (watts x 2^exposure); from 5.0 a
-Temperature and a Normalize switch, which clothbake does not model: see
-unsupported_light_setting.
+From 5.0 (not in 4.3.2) a light also has Exposure (watts x 2^exposure:
+effective_watts), and a Temperature and a Normalize switch, which clothbake
+does not model: see unsupported_light_setting.
 """
 import math
 from dataclasses import dataclass
@@ -53,7 +53,7 @@ def light_units(version):
 
 
 def effective_watts(energy, exposure=0.0):
-    """A light's watts with its Exposure (4.0 on; 0 before) applied."""
+    """A light's watts with its Exposure (5.x; 0 before) applied."""
     return float(energy) * 2.0 ** float(exposure)
 
 
