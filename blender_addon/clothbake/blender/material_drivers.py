@@ -8,9 +8,7 @@ Exposure where the light has one: 5.x) and render visibility (BLENDER_NOTES.md: 
 auto-run needed). A Texture Coordinate node set to an empty would need one
 empty per light kept aligned with it; drivers read the light itself.
 """
-import bpy
-
-from ..core.light_units import light_units
+from .running_units import RUNNING_UNITS as UNITS
 
 
 def _driver(socket, index, expression, variables):
@@ -50,10 +48,6 @@ _Z_AXIS = ("2*(x*z+w*y)", "2*(y*z-w*x)", "1-2*(x*x+y*y)")
 # values: SQUARE 0, RECTANGLE 1, DISK 4, ELLIPSE 5; checked in Blender 3.4).
 _USES_SIZE_Y = "(s == 1 or s == 5)"
 _IS_ELLIPSE = "1.0 if s >= 4 else 0.0"
-# Watts to the group's irradiance input (clothbake's intensity), in this
-# Blender's units (core/light_units.py).
-UNITS = light_units(bpy.app.version)
-
 
 def _rotation(light_obj):
     return [(c, "TRANSFORMS", light_obj, None, f"ROT_{c.upper()}") for c in "wxyz"]

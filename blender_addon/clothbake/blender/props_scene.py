@@ -158,7 +158,7 @@ ClothbakeSceneSettings = type("ClothbakeSceneSettings", (_SceneSettingsMethods,
         "material_route": bpy.props.EnumProperty(
             name="Route", default="exact",
             items=[("exact", "Exact", "The reference renderer's sum: emission and transparency, "
-                    "lit by the scene's suns and point lights through drivers (no shadows from "
+                    "lit by the scene's sun, point, spot and area lights through drivers (no shadows from "
                     "other objects)"),
                    ("cycles-lit", "Cycles-lit", "Lights in front through a Diffuse closure, so "
                     "Cycles or Eevee add shadows from other objects")],

@@ -21,7 +21,8 @@ import bpy
 
 from ..core import scene_export, scene_match
 from ..core.errors import ClothbakeError
-from ..core.light_units import effective_watts, light_units, unsupported_light_setting
+from ..core.light_units import effective_watts, unsupported_light_setting
+from .running_units import RUNNING_UNITS as UNITS
 from ..core.scene import load_scene
 from . import evaluated_mesh
 
@@ -60,7 +61,6 @@ def hint_scene(scene):
 
 
 def _abspath(path):
-    import bpy
     return bpy.path.abspath(path)
 
 
@@ -94,9 +94,6 @@ def mesh_data(obj):
         raise ClothbakeError(e.message.replace("; clothbake", why + "; clothbake", 1)
                              if "; clothbake" in e.message else e.message + why,
                              e.path, e.field) from None
-
-
-UNITS = light_units(bpy.app.version)
 
 
 def light_watts(data):

@@ -9,13 +9,12 @@ the same numbers, so the scene's "up" stays whatever axis it was (the paper
 scene is y-up).
 """
 import math
-import os
 
 import bpy
 from mathutils import Matrix
 
 from ..core.obj import read_obj
-from ..core.light_units import light_units
+from .running_units import RUNNING_UNITS
 from ..core.scene import blender_camera, blender_light, load_scene
 from .operators_cloth import load_from_scene_object
 
@@ -105,7 +104,7 @@ def import_scene(path, clear=True, samples=16):
     scene.camera = cam_obj
 
     for i, light in enumerate(model["lights"]):
-        settings = blender_light(light, light_units(bpy.app.version))
+        settings = blender_light(light, RUNNING_UNITS)
         if "mask" in settings:
             print(f"clothbake: warning: {path}: lights[{i}]: {settings['mask']}")
         data = bpy.data.lights.new(f"clothbake light {i}", settings["type"])

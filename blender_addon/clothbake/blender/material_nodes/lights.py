@@ -3,15 +3,11 @@ direction and irradiance at the shading point and the address of its light
 factors."""
 import math
 
-import bpy
-
-from ...core.light_units import light_units
+from ..running_units import RUNNING_UNITS as UNITS
 from ...core.material_manifest import HORIZON
 from .common import BLACK, LightTerm, mix
 from .directions import hemi_octahedral, horizon_warp, pick_node, to_frame
 from .frame import frame_scaled
-
-UNITS = light_units(bpy.app.version)
 
 
 def _spot_mask(g, gin, l, direction, col):
