@@ -31,6 +31,7 @@
 #include "io/material_io.h"
 #include "io/material_report.h"
 #include "io/progress.h"
+#include "io/system_info.h"
 
 namespace clothbake::cli {
 
@@ -145,6 +146,9 @@ void run_material(const MaterialArgs& args) {
     nlohmann::json j = io::material_estimate_json(
         settings, probe_material(src, settings, threads, shard), threads);
     j["plan"] = plan.why;
+    // The program and its volume as they stand, plus the bake's own high point.
+    j["resident_bytes"] = io::resident_bytes();
+    j["peak_bytes"] = io::resident_bytes() + j["bake_peak_bytes"].get<uint64_t>();
     add_texels(advice, j);
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -167,6 +171,7 @@ void run_material(const MaterialArgs& args) {
   io::write_material(args.out_dir, material, info);
   nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
   report["plan"] = plan.why;
+  report["peak_resident_bytes"] = io::peak_resident_bytes();
   add_texels(advice, report);
   std::printf("%s\n", report.dump().c_str());
 }

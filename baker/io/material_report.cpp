@@ -16,7 +16,8 @@ nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialE
       {"probe_rays", e.probe_rays}, {"threads", threads}, {"view_nodes", e.view_nodes},
       {"light_nodes", e.light_nodes}, {"texels", s.texels}, {"spp", s.spp}, {"rays", e.rays},
       {"light_field_bytes", e.light_field_bytes}, {"fixed_bytes", e.fixed_bytes},
-      {"max_bytes", e.max_bytes}};
+      {"max_bytes", e.max_bytes}, {"bake_peak_bytes", e.bake_peak_bytes},
+      {"expected_mean_rank", e.expected_mean_rank}, {"expected_max_rank", e.expected_max_rank}};
   nlohmann::json part = report;
   if (s.address == MaterialAddress::Crossings) {
     part["address"] = "crossings";

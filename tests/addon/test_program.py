@@ -81,6 +81,8 @@ time.sleep(60)
 def test_estimate_text():
     assert program.estimate_text(42, 3 * 2**20) == "about 42 s, 3 MiB"
     assert program.estimate_text(600, 10, bound="up to ") == "about 10 min, up to 1 MiB"
+    assert (program.estimate_text(90, 900 * 2**20, what="peak memory")
+            == "about 2 min, 900 MiB peak memory")
     assert program.duration_text(7200) == "2.0 h"
 
 

@@ -380,6 +380,29 @@ ClothMaterial bake_material(const MaterialSource& source, const MaterialSettings
   return material;
 }
 
+std::vector<int> probe_view_ranks(const MaterialSource& source, const ClothMaterial& material,
+                                  std::span<const int> views) {
+  const LightNodeDirections nodes = light_node_directions(material);
+  const MaterialSettings& s = material.settings;
+  // One field point per cell edge: the fields' build is most of the probe's
+  // time, and the ranks the coarser fields give are the bake's to within
+  // the probe's own spread (lab/real_drafts).
+  const LightFieldSet fields =
+      LightFieldSet::build(*source.volume, nodes.texture, material.optics.extinction_per_mm,
+                           std::min(s.field_supersample, k_rank_probe_field_supersample),
+                           s.light_fields);
+  std::vector<int> ranks(views.size(), 0);
+  tbb::enumerable_thread_specific<ViewLocal> locals;
+  tbb::parallel_for(size_t(0), views.size(), [&](size_t i) {
+    ViewFactors f;
+    const Eigen::MatrixXf m = march_view_node(material, *source.volume, *source.shader, fields,
+                                              nodes.local, views[i], locals.local(), f);
+    factorise(m, s.max_error, material.layout().channels, f);
+    ranks[i] = f.rank;
+  });
+  return ranks;
+}
+
 void check_material_memory(const ClothMaterial& material, const VolumeTexture& volume, int threads,
                            uint64_t memory_budget) {
   const uint64_t fixed = material_bake_fixed_bytes(material, volume, threads);

@@ -56,6 +56,15 @@ ClothMaterial bake_material(const MaterialSource& source, const MaterialSettings
                             const std::function<void(double)>& progress = {},
                             MaterialBakeStats* stats = nullptr, const MaterialShard& shard = {});
 
+/// The ranks the factorisation reaches on view nodes `views` of a bake of
+/// `material` (unbaked_material of `source`, the whole repeat), each marched
+/// and factorised as the bake does under the whole repeat's light fields
+/// (at k_rank_probe_field_supersample): the estimate's probe of the table's
+/// size. Costs the fields' build and those views' marches.
+inline constexpr int k_rank_probe_field_supersample = 1;
+std::vector<int> probe_view_ranks(const MaterialSource& source, const ClothMaterial& material,
+                                  std::span<const int> views);
+
 /// Throws InputError on "memory" when the bytes the bake holds before its
 /// table grows (material_bake_fixed_bytes) exceed `memory_budget_bytes`.
 void check_material_memory(const ClothMaterial& material, const VolumeTexture& volume, int threads,

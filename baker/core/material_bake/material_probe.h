@@ -32,6 +32,11 @@ struct MaterialEstimate {
   uint64_t light_field_bytes = 0;  ///< the light fields
   uint64_t fixed_bytes = 0;        ///< fields plus one view's matrix per thread
   uint64_t max_bytes = 0;          ///< the table at full rank (every view at rank = light nodes)
+  /// The bake's own bytes at its high point (bake_memory.h), at the ranks
+  /// expected (expected_bake_ranks); the program and its volume not counted.
+  uint64_t bake_peak_bytes = 0;
+  double expected_mean_rank = 0.0;
+  int expected_max_rank = 0;
   /// For a part of a sharded bake (`--shard I/N`): the whole bake's view
   /// nodes, and the part's share of their estimated cost (material_view_cost);
   /// the figures above are then the part's.

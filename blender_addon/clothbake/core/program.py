@@ -174,7 +174,9 @@ def plan_note(report):
     return f"{mode}: {why}"
 
 
-def estimate_text(seconds, size, bound=""):
+def estimate_text(seconds, size, bound="", what=""):
     """An estimate as the panel shows it (short: the panel is narrow); `bound`
-    ("up to ") when the size is an upper bound."""
-    return f"about {duration_text(seconds)}, {bound}{max(1, round(size / 2**20))} MiB"
+    ("up to ") when the size is an upper bound; `what` names the size
+    ("peak memory")."""
+    mib = max(1, round(size / 2**20))
+    return f"about {duration_text(seconds)}, {bound}{mib} MiB" + (f" {what}" if what else "")
