@@ -113,6 +113,11 @@ void run_material(const MaterialArgs& args) {
   io::check_folder_parent(args.out_dir, "-o");
   io::check_folder_destination(args.out_dir, "material");
   const io::MaterialInput in = read_input(args, budget);
+  // What the bake may hold: the budget less the program and its input as
+  // read (a large draft's volumes can be most of it: 16 GB for a 641 x 641
+  // one at the default resolution).
+  const uint64_t held = io::resident_bytes();
+  const uint64_t bake_budget = budget > held ? budget - held : 0;
   const MaterialSource& src = in.source;
   settings.parts = src.parts;
   BakeRequest request = bake_request(args.choice, settings);
@@ -124,17 +129,19 @@ void run_material(const MaterialArgs& args) {
     MaterialSettings asked = settings;
     asked.address = request.address.value_or(MaterialAddress::Repeat);
     check_material_bake(src, asked, shard);
-    plan = plan_material_bake(src, settings, request, in.ends, in.picks, threads, budget);
+    plan = plan_material_bake(src, settings, request, in.ends, in.picks, threads, bake_budget);
     settings = plan.settings;
     check_material_bake(src, settings, shard);
     if (request.address) warn_texels(texel_advice(settings, in.ends, in.picks), settings, in,
-                                     threads, budget);
+                                     threads, bake_budget);
     if (!plan.fits) {
-      const std::string advice = advice_for_memory(src, plan, threads, budget);
+      const std::string advice = advice_for_memory(src, plan, threads, bake_budget);
       throw InputError("memory", plan.mode + " holds " + std::to_string(plan.fixed_bytes >> 20) +
                                      " MiB before its table grows (light fields and view tables), "
-                                     "over the budget of " + std::to_string(budget >> 20) +
-                                     " MiB (" + plan.reason + "). " +
+                                     "over the " + std::to_string(bake_budget >> 20) +
+                                     " MiB the budget of " + std::to_string(budget >> 20) +
+                                     " MiB leaves beside the program and its input as read (" +
+                                     std::to_string(held >> 20) + " MiB; " + plan.reason + "). " +
                                      (advice.empty() ? "Lower --light-directions or raise --memory-gib"
                                                      : "Fits: " + advice));
     }
@@ -159,7 +166,7 @@ void run_material(const MaterialArgs& args) {
   MaterialBakeStats stats;
   const auto t0 = std::chrono::steady_clock::now();
   const ClothMaterial material = bake_material(
-      src, settings, budget, [&](double f) { bar.update(f); }, &stats, shard);
+      src, settings, bake_budget, [&](double f) { bar.update(f); }, &stats, shard);
   bar.finish();
   const double seconds = seconds_since(t0);
 

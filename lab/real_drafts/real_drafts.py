@@ -96,31 +96,26 @@ def measure(exe, work, wif, bake_only):
 
 def table(work):
     rows = [json.load(open(p)) for p in sorted(glob.glob(os.path.join(work, "*", "results.json")))]
-    print("| draft | threads | chosen | size | bake (reference) | estimate / peak memory "
-          "| error per pixel (floor) | over 8 x 8 (floor) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| draft | threads | chosen | folder | bake | peak memory (estimate) "
+          "| error per pixel (seed floor) | over 8 x 8 pixels (floor) | reference |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         if "bake" not in r:
             continue
         b, e = r["bake"], r["estimate"]
-        est = e["fixed_bytes"] + e["peak_table_bytes"] if "peak_table_bytes" in e else None
-        peak = b["peak_resident_bytes"]
-        mem = (f"{est / 2**20:.0f} / {peak / 2**20:.0f} MiB" if est else
-               f"fixed {e['fixed_bytes'] / 2**20:.0f}, table max {e['max_bytes'] / 2**20:.0f} "
-               f"/ {peak / 2**20:.0f} MiB")
-        ref_t = r.get("reference_seconds_seed1")
-        err = r.get("material_error")
-        floor = r.get("seed_floor")
-        print(f"| {r['draft']} | {r['threads'][0]} x {r['threads'][1]} | {b['plan']} "
-              f"| {r['bytes'] / 1e6:.0f} MB | {b['seconds']:.0f} s "
-              f"({ref_t:.0f} s) | {mem} " if ref_t else
-              f"| {r['draft']} | {r['threads'][0]} x {r['threads'][1]} | {b['plan']} "
-              f"| {r['bytes'] / 1e6:.0f} MB | {b['seconds']:.0f} s | {mem} ", end="")
-        if err:
-            print(f"| {100 * err['pixel']:.1f} % ({100 * floor['pixel']:.1f} %) "
-                  f"| {100 * err['block8']:.1f} % ({100 * floor['block8']:.1f} %) |")
+        mode = b["plan"].split(":")[0].replace("the whole repeat", "whole repeat")
+        peak, est = b["peak_resident_bytes"], e["peak_bytes"]
+        cells = [r["draft"], f"{r['threads'][0]} x {r['threads'][1]}", mode,
+                 f"{r['bytes'] / 1e6:.0f} MB", f"{b['seconds']:.0f} s",
+                 f"{peak / 2**20:.0f} MiB ({est / 2**20:.0f}, {est / peak:.2f} x)"]
+        err, floor = r.get("material_error"), r.get("seed_floor")
+        if err and floor:
+            cells += [f"{100 * err['pixel']:.1f} % ({100 * floor['pixel']:.1f} %)",
+                      f"{100 * err['block8']:.1f} % ({100 * floor['block8']:.1f} %)",
+                      f"{r['reference_seconds_seed1']:.0f} s"]
         else:
-            print("| | |")
+            cells += ["not measured"] * 3
+        print("| " + " | ".join(cells) + " |")
 
 
 def main():
