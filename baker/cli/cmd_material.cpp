@@ -153,9 +153,10 @@ void run_material(const MaterialArgs& args) {
     nlohmann::json j = io::material_estimate_json(
         settings, probe_material(src, settings, threads, shard), threads);
     j["plan"] = plan.why;
-    // The program and its volume as they stand, plus the bake's own high point.
-    j["resident_bytes"] = io::resident_bytes();
-    j["peak_bytes"] = io::resident_bytes() + j["bake_peak_bytes"].get<uint64_t>();
+    // The program and its input as read (before the probe, whose memory the
+    // bake does not keep), plus the bake's own high point.
+    j["resident_bytes"] = held;
+    j["peak_bytes"] = held + j["bake_peak_bytes"].get<uint64_t>();
     add_texels(advice, j);
     std::printf("%s\n", j.dump(2).c_str());
     return;

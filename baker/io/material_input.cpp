@@ -1,6 +1,7 @@
 #include "io/material_input.h"
 
 #include <filesystem>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -35,8 +36,13 @@ void read_scene_input(const std::string& path, const std::string& object, PartsR
   if (o < 0)
     throw InputError("object", "no object named '" + object + "' (nor an index below " +
                                    std::to_string(scene.objects.size()) + ")");
-  in.prepared = std::make_unique<ClothScene>(*in.scene, budget);
-  in.source = material_source(*in.prepared, o, parts, budget);
+  // Colour-free parts: the colour-free volume stands in for the object's own,
+  // so that only one of the two volumes is ever held (colour_free_volume).
+  std::vector<std::shared_ptr<const VolumeTexture>> volumes(size_t(o) + 1);
+  if (parts == MaterialParts::SpecularWarpWeft)
+    volumes[size_t(o)] = colour_free_volume(scene, o, budget);
+  in.prepared = std::make_unique<ClothScene>(*in.scene, budget, volumes);
+  in.source = material_source(*in.prepared, o, parts, budget, volumes[size_t(o)]);
   in.cloth_name = scene.objects[size_t(o)].name;
   if (in.source.parts == MaterialParts::SpecularWarpWeft)
     count_threads(in.source.cloth, in);

@@ -7,16 +7,19 @@
 # 62 x 62 threads) at small settings:
 # - addressed per crossing at 32 texels, asked, with 300 MiB left beside the
 #   program (it holds 612 MiB);
-# - the address left to the bake (per crossing at 8: 0.13 texels a thread
-#   over the whole repeat) with 38 MiB left (it holds 46 MiB).
+# - 8 texels asked, the address left to the bake (per crossing: 0.13 texels
+#   a thread over the whole repeat) with 38 MiB left (it holds 46 MiB);
+# - nothing asked: at 38 MiB the bake takes 4 texels a crossing itself, at
+#   15 MiB it is refused (4 holds 18 MiB) and the advice is 2.
 #   material_advice.sh EXE ROOT
 set -u
 exe=$1 root=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-printf '{"weave": {"wif": "%s"}, "resolution": {"cells_per_thread": 1, "layers": 4}}\n' \
-  "$root/testscenes/wif/real/wi_32twill.wif" >"$tmp/twill.json"
+# shellcheck source=../lib/small_twill.sh
+. "$root/tests/lib/small_twill.sh"
+write_small_twill "$root" "$tmp/twill.json"
 small=(--directions 4 --light-directions 4 --spp 1 --threads 2 --quiet)
 case_n=0
 follow() { # follow GIB ARGS...: refused, then baked with the advice
@@ -58,5 +61,19 @@ assert m['address'] == 'crossings' and m['texels'] == int(sys.argv[2]), (m['addr
 base=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['resident_bytes'] / 2**30)" "$tmp/est.json")
 gib() { python3 -c "import sys; print(f'{float(sys.argv[1]) + float(sys.argv[2]) / 1024:.4f}')" "$base" "$1"; }
 follow "$(gib 300)" --address crossings --texels 32
-follow "$(gib 38)"
+follow "$(gib 38)" --texels 8
+# Left to itself at 38 MiB, the bake takes 4 texels a crossing (18 MiB)
+# rather than refuse 8, and says so; at 15 MiB neither fits, and the
+# advice is 2 texels (11 MiB).
+"$exe" material "$tmp/twill.json" -o "$tmp/auto" "${small[@]}" --memory-gib "$(gib 38)" \
+  >"$tmp/out" 2>"$tmp/err" || fail "auto at 38 MiB was refused: $(cat "$tmp/err")"
+python3 - "$tmp/auto" "$tmp/out" <<'PY' || fail "auto at 38 MiB"
+import json, sys
+m = json.load(open(sys.argv[1] + "/manifest.json"))
+plan = json.loads(open(sys.argv[2]).read().strip().splitlines()[-1])["plan"]
+assert (m["address"], m["texels"]) == ("crossings", 4), (m["address"], m["texels"])
+assert "at 8 texels a crossing it would hold" in plan, plan
+print("ok   auto at 38 MiB: " + plan)
+PY
+follow "$(gib 15)"
 echo "material_advice: every refusal's advice bakes"

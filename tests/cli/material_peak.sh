@@ -14,8 +14,9 @@ exe=$1 root=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
-printf '{"weave": {"wif": "%s"}, "resolution": {"cells_per_thread": 1, "layers": 4}}\n' \
-  "$root/testscenes/wif/real/wi_32twill.wif" >"$tmp/twill.json"
+# shellcheck source=../lib/small_twill.sh
+. "$root/tests/lib/small_twill.sh"
+write_small_twill "$root" "$tmp/twill.json"
 check() { # check NAME INPUT ARGS...
   local name=$1 input=$2
   shift 2

@@ -68,18 +68,32 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
   const uint64_t whole = footprint(source, s, threads).bytes;
   std::string why;
   if (advice.too_few())
-    why = "the whole repeat spans " + std::to_string(advice.threads_across) + " threads: " +
-          fixed(advice.texels_per_thread, 2) + " texels a thread at " +
+    why = "the whole repeat spans " + std::to_string(advice.threads_across) +
+          " threads: " + fixed(advice.texels_per_thread, 2) + " texels a thread at " +
           std::to_string(s.texels) + ", below " + fixed(k_min_texels_per_thread, 0);
   else if (whole > budget_bytes)
-    why = "the whole repeat at " + std::to_string(s.texels) + " texels would hold " +
-          mib(whole) + ", over the budget of " + mib(budget_bytes);
+    why = "the whole repeat at " + std::to_string(s.texels) + " texels would hold " + mib(whole) +
+          ", over the budget of " + mib(budget_bytes);
   else if (advice.known())
     return finish(fixed(advice.texels_per_thread, 1) + " texels a thread, within the budget");
   else
     return finish("within the budget");
   s.address = MaterialAddress::Crossings;
-  if (!request.texels) s.texels = k_auto_crossing_texels;
+  if (request.texels) return finish(why);
+  s.texels = k_auto_crossing_texels;
+  // Fewer texels a crossing before a refusal: a 641 x 641 draft's volume
+  // alone holds 16 GB of the 18 a 24 GB machine gives, and at 4 texels its
+  // blocks take the 2 GB left (docs/design/material.md, "Automatic address").
+  const uint64_t at_default = footprint(source, s, threads).bytes;
+  if (at_default > budget_bytes) {
+    s.texels = k_auto_crossing_min_texels;
+    if (footprint(source, s, threads).bytes <= budget_bytes)
+      why += "; at " + std::to_string(k_auto_crossing_texels) +
+             " texels a crossing it would hold " + mib(at_default) + ", over the budget of " +
+             mib(budget_bytes);
+    else
+      s.texels = k_auto_crossing_texels;  // neither fits: refused with the 8's figures
+  }
   return finish(why);
 }
 

@@ -18,6 +18,10 @@ namespace clothbake {
 /// 91 x 480-thread overshot of testscenes/wif/real baked there in 4.6 GB
 /// where 32 needed 53 GB (docs/design/material.md, "Automatic address").
 inline constexpr int k_auto_crossing_texels = 8;
+/// The fewest it takes before refusing, when 8 does not fit the budget: 4
+/// texels still resolve each thread of a crossing twice over
+/// (k_min_texels_per_thread).
+inline constexpr int k_auto_crossing_min_texels = 4;
 
 /// What the user fixed; an empty field is chosen by plan_material_bake.
 struct BakeRequest {
@@ -41,7 +45,8 @@ struct BakePlan {
 /// - else the whole repeat at the requested texels (the settings' default
 ///   when none) when it leaves at least k_min_texels_per_thread texels a
 ///   thread and its fixed bytes fit the budget; otherwise per crossing at
-///   the requested texels, or k_auto_crossing_texels.
+///   the requested texels, or k_auto_crossing_texels, or, when that does
+///   not fit and it does, k_auto_crossing_min_texels.
 /// `fits` says whether the choice fits the budget; the caller refuses
 /// with advice_for_memory when it does not.
 BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings& settings,

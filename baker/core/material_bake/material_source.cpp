@@ -16,18 +16,30 @@ namespace {
 constexpr const char* k_rgb_asked = "RGB was asked (parts)";
 
 /// The colour-free volume of `spec` into `src`, with its spec and palette.
-void make_colour_free(const ClothSpec& spec, uint64_t budget, MaterialSource& src) {
+/// The colour-free volume of `spec` (`volume` when generated already) into
+/// `src`, with its spec and palette.
+void make_colour_free(const ClothSpec& spec, uint64_t budget, MaterialSource& src,
+                      std::shared_ptr<const VolumeTexture> volume = nullptr) {
   src.parts = MaterialParts::SpecularWarpWeft;
   src.cloth = colour_free(spec);
   src.palette = palette_of(spec);
   src.written_repeats = colour_free_repeats(spec);
-  src.owned_volume = std::make_shared<const VolumeTexture>(generate_volume(src.cloth, budget));
+  src.owned_volume =
+      volume ? std::move(volume)
+             : std::make_shared<const VolumeTexture>(generate_volume(src.cloth, budget));
   src.volume = src.owned_volume.get();
 }
 }  // namespace
 
+std::shared_ptr<const VolumeTexture> colour_free_volume(const Scene& scene, int o,
+                                                        uint64_t budget) {
+  const ClothObject& obj = scene.objects[size_t(o)];
+  if (!colour_parts_refusal(scene.settings.shading, obj.volume != nullptr).empty()) return nullptr;
+  return std::make_shared<const VolumeTexture>(generate_volume(colour_free(obj.cloth), budget));
+}
+
 MaterialSource material_source(const ClothScene& prepared, int o, MaterialParts parts,
-                               uint64_t budget) {
+                               uint64_t budget, std::shared_ptr<const VolumeTexture> generated) {
   MaterialSource src;
   const Scene& scene = prepared.scene();
   const ClothObject& obj = scene.objects[size_t(o)];
@@ -42,7 +54,7 @@ MaterialSource material_source(const ClothScene& prepared, int o, MaterialParts 
                        ? colour_parts_refusal(src.optics.shading, obj.volume != nullptr)
                        : k_rgb_asked;
   if (src.rgb_reason.empty())
-    make_colour_free(obj.cloth, budget, src);
+    make_colour_free(obj.cloth, budget, src, std::move(generated));
   else
     src.volume = &prepared.volume(o);
   return src;

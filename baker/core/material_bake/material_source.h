@@ -43,8 +43,21 @@ std::string colour_parts_refusal(ShadingMode shading, bool from_vdb);
 /// fibre shader ClothScene builds for it and its optics (object_optics,
 /// material_shader.h). `parts` is what is asked; RGB when colour-free parts
 /// are not possible (source.parts says what was chosen).
+/// `generated`, when given, is that cloth's colour-free volume
+/// generated already (colour_free_volume below), which the source then shares.
 MaterialSource material_source(const ClothScene& prepared, int object, MaterialParts parts,
-                               uint64_t memory_budget_bytes);
+                               uint64_t memory_budget_bytes,
+                               std::shared_ptr<const VolumeTexture> generated = nullptr);
+
+/// The colour-free volume of a scene's object `object`, or null when
+/// colour-free parts are not possible for it (colour_parts_refusal). A reader
+/// generates it before preparing the scene and lends it to ClothScene in
+/// place of the object's own volume: the RGB volume, as large (10 GB for a
+/// 641 x 641 draft at its default resolution), is then never generated, and
+/// the quad patches take only the thickness from a generated volume, which
+/// colours do not change.
+std::shared_ptr<const VolumeTexture> colour_free_volume(const Scene& scene, int object,
+                                                        uint64_t memory_budget_bytes);
 
 /// A cloth spec alone: its generated volume, the default optics (depth scale
 /// 1) and the fibre shader a one-object scene with the default render seed

@@ -31,7 +31,8 @@ class ClothScene {
   /// Prepares every object: its volume texture (the object's `volume` if
   /// set, else generated from its cloth spec and refused over the memory
   /// budget), its fibre shader and its quad patches. `volumes`, if given,
-  /// replaces the volume of each object (tests, bakes reusing one).
+  /// replaces the volume of each object (tests, bakes reusing one, a
+  /// material bake lending its colour-free volume: colour_free_volume).
   ClothScene(const Scene& scene, uint64_t memory_budget_bytes,
              std::vector<std::shared_ptr<const VolumeTexture>> volumes = {});
   ~ClothScene();
