@@ -3,7 +3,9 @@
 // distance (docs/formats/material.md), which lookup-render applies to any
 // scene whose cloth matches. Read and check, call the core, write.
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -13,10 +15,10 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "cli/option_range.h"
 #include "cli/commands.h"
 #include "cli/material_options.h"
 #include "cli/memory_budget.h"
+#include "cli/option_range.h"
 #include "cli/setting_flags.h"
 #include "cli/shard_option.h"
 #include "cli/thread_limit.h"
@@ -40,7 +42,7 @@ struct MaterialArgs {
   std::string input, out_dir, object;
   MaterialSettings settings;
   MaterialChoiceOptions choice;  ///< --address and whether --texels was given
-  float depth_scale = 0.0f;  // 0: the scene object's, or 1 for a spec
+  float depth_scale = 0.0f;      // 0: the scene object's, or 1 for a spec
   int threads = 0;
   double memory_gib = 0.0;
   long long seed = -1;
@@ -93,6 +95,16 @@ void warn_texels(const TexelAdvice& a, const MaterialSettings& s, const io::Mate
                s.texels, in.ends, in.picks, a.texels_per_thread, advice);
 }
 
+/// What following a refusal's advice would take here, probed as --estimate
+/// probes a bake: ", about 5 min here (estimated)".
+std::string advised_cost(const MaterialSource& src, const MemoryAdvice& advice, int threads) {
+  const double seconds = probe_material(src, advice.settings, threads).seconds;
+  const std::string time = seconds < 90.0
+                               ? std::to_string(std::max(1, int(std::lround(seconds)))) + " s"
+                               : std::to_string(int(std::lround(seconds / 60.0))) + " min";
+  return ", about " + time + " here (estimated)";
+}
+
 /// What the report and --estimate add (the add-on shows it as the warning).
 void add_texels(const TexelAdvice& a, nlohmann::json& j) {
   if (!a.known()) return;
@@ -132,18 +144,21 @@ void run_material(const MaterialArgs& args) {
     plan = plan_material_bake(src, settings, request, in.ends, in.picks, threads, bake_budget);
     settings = plan.settings;
     check_material_bake(src, settings, shard);
-    if (request.address) warn_texels(texel_advice(settings, in.ends, in.picks), settings, in,
-                                     threads, bake_budget);
+    if (request.address)
+      warn_texels(texel_advice(settings, in.ends, in.picks), settings, in, threads, bake_budget);
     if (!plan.fits) {
-      const std::string advice = advice_for_memory(src, plan, threads, bake_budget);
-      throw InputError("memory", plan.mode + " holds " + std::to_string(plan.fixed_bytes >> 20) +
-                                     " MiB before its table grows (light fields and view tables), "
-                                     "over the " + std::to_string(bake_budget >> 20) +
-                                     " MiB the budget of " + std::to_string(budget >> 20) +
-                                     " MiB leaves beside the program and its input as read (" +
-                                     std::to_string(held >> 20) + " MiB; " + plan.reason + "). " +
-                                     (advice.empty() ? "Lower --light-directions or raise --memory-gib"
-                                                     : "Fits: " + advice));
+      const MemoryAdvice advice = advice_for_memory(src, plan, threads, bake_budget);
+      throw InputError(
+          "memory",
+          plan.mode + " holds " + std::to_string(plan.fixed_bytes >> 20) +
+              " MiB before its table grows (light fields and view tables), "
+              "over the " +
+              std::to_string(bake_budget >> 20) + " MiB the budget of " +
+              std::to_string(budget >> 20) +
+              " MiB leaves beside the program and its input as read (" +
+              std::to_string(held >> 20) + " MiB; " + plan.reason + "). " +
+              (advice.text.empty() ? "Lower --light-directions or raise --memory-gib"
+                                   : "Fits: " + advice.text + advised_cost(src, advice, threads)));
     }
   } catch (const InputError& e) {
     throw with_flag(k_material_flags, e);

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Every real WIF baked with `clothbake material` and no flags: the plan it
 chose, its estimate against the process's own peak, its size and time, and
 its error against its reference beside the reference's seed floor.
@@ -8,8 +8,9 @@ its error against its reference beside the reference's seed floor.
 
 The scene is the paper scene's folds at 80 ends per UV (lab/common). Errors
 are `clothbake compare`'s relative RMSE per pixel and over 8 x 8 pixel
-blocks; the seed floor is the reference against the same cloth with
-generator seed 2, at the same settings. Results go to WORK/NAME/results.json;
+blocks (of the image cut to whole blocks: 424 x 264); the seed floor is
+the reference against the same cloth with generator seed 2, at the same
+settings. Results go to WORK/NAME/results.json;
 --table prints the guide's table from them. Re-running skips what is done.
 """
 import argparse
@@ -25,10 +26,23 @@ ENDS_PER_UV = 80
 SPP = 64
 
 
+def cropped(path, box):
+    """The image cut to whole box x box blocks from its top-left corner (the
+    paper scene's 426 x 266 to 424 x 264), beside it."""
+    import OpenImageIO as oiio
+    buf = oiio.ImageBuf(path)
+    spec = buf.spec()
+    out = path.replace(".exr", f"_crop{box}.exr")
+    oiio.ImageBufAlgo.cut(buf, oiio.ROI(0, spec.width // box * box, 0,
+                                        spec.height // box * box)).write(out)
+    return out
+
+
 def errors(exe, ref, img):
     out = {}
     for box in (1, 8):
-        cmd = [exe, "compare", ref, img, "--json"] + (["--downsample", str(box)] if box > 1 else [])
+        a, b = (ref, img) if box == 1 else (cropped(ref, box), cropped(img, box))
+        cmd = [exe, "compare", a, b, "--json"] + (["--downsample", str(box)] if box > 1 else [])
         out["pixel" if box == 1 else "block8"] = json.loads(run(cmd)[1])["relative_rmse"]
     return out
 

@@ -97,19 +97,22 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
   return finish(why);
 }
 
-std::string advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
-                              uint64_t budget_bytes) {
+MemoryAdvice advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
+                               uint64_t budget_bytes) {
   if (source.parts != MaterialParts::SpecularWarpWeft) return {};
-  MaterialSettings s = plan.settings;
+  MemoryAdvice advice{plan.settings, {}};
+  MaterialSettings& s = advice.settings;
   s.address = MaterialAddress::Crossings;
   for (int texels : {k_auto_crossing_texels, 4, 2}) {
     if (plan.settings.address == MaterialAddress::Crossings && texels >= plan.settings.texels)
       continue;
     s.texels = texels;
     const Footprint f = footprint(source, s, threads);
-    if (f.bytes <= budget_bytes)
-      return "--address crossings --texels " + std::to_string(texels) + ": " +
-             blocks_text(f.blocks) + ", the bake holds about " + mib(f.bytes);
+    if (f.bytes <= budget_bytes) {
+      advice.text = "--address crossings --texels " + std::to_string(texels) + ": " +
+                    blocks_text(f.blocks) + ", the bake holds about " + mib(f.bytes);
+      return advice;
+    }
   }
   return {};
 }

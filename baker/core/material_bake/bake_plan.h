@@ -31,11 +31,11 @@ struct BakeRequest {
 
 struct BakePlan {
   MaterialSettings settings;  ///< address and texels resolved
-  std::string mode;           ///< "per crossing at 8 texels (37 blocks)", "the whole repeat at 32 texels"
-  std::string reason;         ///< why: "as asked", "the whole repeat spans 62 threads: ..."
-  std::string why;            ///< one line: mode (reason; the bytes it holds)
-  uint64_t fixed_bytes = 0;   ///< material_bake_fixed_bytes of the choice
-  bool fits = true;           ///< fixed_bytes within the budget
+  std::string mode;    ///< "per crossing at 8 texels (37 blocks)", "the whole repeat at 32 texels"
+  std::string reason;  ///< why: "as asked", "the whole repeat spans 62 threads: ..."
+  std::string why;     ///< one line: mode (reason; the bytes it holds)
+  uint64_t fixed_bytes = 0;  ///< material_bake_fixed_bytes of the choice
+  bool fits = true;          ///< fixed_bytes within the budget
 };
 
 /// Resolves `request` on `settings` for `source` (its repeat `ends` x
@@ -54,11 +54,15 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
                             uint64_t budget_bytes);
 
 /// A refusal's advice when `plan` does not fit: the first of the address
-/// per crossing and fewer texels (8, 4, 2 per crossing) that fits, with its
-/// blocks and the bytes it holds, as the flags that give it ("--address
-/// crossings --texels 4: 37 blocks, the bake holds about 830 MiB"); empty
-/// when none fits.
-std::string advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
-                              uint64_t budget_bytes);
+/// per crossing and fewer texels (8, 4, 2 per crossing) that fits.
+struct MemoryAdvice {
+  MaterialSettings settings;  ///< the plan's, with the address and texels advised
+  /// The flags that give it, its blocks and the bytes it holds ("--address
+  /// crossings --texels 4: 37 blocks, the bake holds about 830 MiB"); empty
+  /// when none fits.
+  std::string text;
+};
+MemoryAdvice advice_for_memory(const MaterialSource& source, const BakePlan& plan, int threads,
+                               uint64_t budget_bytes);
 
 }  // namespace clothbake
