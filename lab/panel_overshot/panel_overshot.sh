@@ -7,7 +7,8 @@
 # cloth, the WIF loaded, the .blend saved (the material goes beside it),
 # Estimate, Bake material (its confirmation dialog answered), Material
 # Preview. Screenshots and blender.log in OUT_DIR. Takes as long as the bake
-# (about 6 minutes on 2 cores for the overshot).
+# (about 6 minutes on 2 cores for the overshot); CLOTHBAKE_PANEL_NO_BAKE=1
+# stops at the confirmation (about a minute).
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: panel_overshot.sh CLOTHBAKE OUT_DIR [WIF]" >&2; exit 2; }
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)

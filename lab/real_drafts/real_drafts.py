@@ -116,12 +116,14 @@ def table(work):
     for r in rows:
         if "bake" not in r:
             continue
-        b, e = r["bake"], r["estimate"]
+        b, e = r["bake"], r.get("estimate")
         mode = b["plan"].split(":")[0].replace("the whole repeat", "whole repeat")
-        peak, est = b["peak_resident_bytes"], e["peak_bytes"]
-        cells = [r["draft"], f"{r['threads'][0]} x {r['threads'][1]}", mode,
+        peak = b["peak_resident_bytes"]
+        est = (f"{e['peak_bytes'] / 2**20:.0f}, {e['peak_bytes'] / peak:.2f} x" if e
+               else "not run")
+        cells = [r["draft"].removesuffix(".wif"), f"{r['threads'][0]} x {r['threads'][1]}", mode,
                  f"{r['bytes'] / 1e6:.0f} MB", f"{b['seconds']:.0f} s",
-                 f"{peak / 2**20:.0f} MiB ({est / 2**20:.0f}, {est / peak:.2f} x)"]
+                 f"{peak / 2**20:.0f} MiB ({est})"]
         err, floor = r.get("material_error"), r.get("seed_floor")
         if err and floor:
             cells += [f"{100 * err['pixel']:.1f} % ({100 * floor['pixel']:.1f} %)",

@@ -6,6 +6,8 @@ Every refused input is a ClothbakeError, reported as an ERROR with the
 program's or the reader's message ("file: field: message") and the
 operator cancelled: never a traceback.
 """
+import textwrap
+
 import bpy
 
 from ..core import program as runner
@@ -14,6 +16,9 @@ from . import prefs
 
 # A bake estimated to take longer than this asks before it starts.
 CONFIRM_SECONDS = 60.0
+# The confirmation's width in pixels, and the characters of a line that fit it
+# (a label is cut with an ellipsis where it overflows).
+DIALOG_WIDTH, DIALOG_CHARS = 480, 72
 
 
 def program_path(context):
@@ -24,11 +29,14 @@ def program_path(context):
     return program
 
 
-def redraw(context):
+def redraw(context, kinds=None):
+    """Tags every area for redraw, or only the areas of `kinds` (a set of
+    area types)."""
     wm = context.window_manager
     for window in wm.windows:
         for area in window.screen.areas:
-            area.tag_redraw()
+            if kinds is None or area.type in kinds:
+                area.tag_redraw()
 
 
 class Refused(ClothbakeError):
@@ -69,8 +77,14 @@ class ProgramJob:
         return self._estimator(context)[0]
 
     def _dialog_lines(self, context):
+        """The confirmation's lines: the estimate, its notes (what the bake
+        chose and why) each wrapped to the dialog's width, the advice."""
         estimate = getattr(context.scene.clothbake, f"{self._kind}_estimate")
-        return [f"This {self._job} takes {estimate}.", *self._advice]
+        text, *notes = estimate.split("; ")
+        lines = [f"This {self._job} takes {text}."]
+        for note in notes:
+            lines += textwrap.wrap(note[:1].upper() + note[1:] + ".", DIALOG_CHARS)
+        return [*lines, *self._advice]
 
     def _set(self, scene, name, value):
         setattr(scene.clothbake, f"{self._kind}_{name}", value)
@@ -132,7 +146,7 @@ class ProgramJob:
         except ClothbakeError as e:
             return self._refuse(str(e))
         if seconds > CONFIRM_SECONDS:
-            return context.window_manager.invoke_props_dialog(self, width=420)
+            return context.window_manager.invoke_props_dialog(self, width=DIALOG_WIDTH)
         return self._start_modal(context)
 
     def draw(self, context):
@@ -157,10 +171,18 @@ class ProgramJob:
         return {"RUNNING_MODAL"}
 
     def _show_progress(self, context):
-        self._set(self._scene, "progress", self._job.progress)
+        """The progress in the panel, the cursor and the status bar, when its
+        percent moved. Only then: a scene property set re-evaluates the
+        scene and redraws the viewports, and redrawing every area five
+        times a second took a core from the bake under Xvfb's software GL."""
         percent = int(round(self._job.progress * 100))
+        if percent == getattr(self, "_shown_percent", None):
+            return
+        self._shown_percent = percent
+        self._set(self._scene, "progress", self._job.progress)
         context.window_manager.progress_update(percent)
         context.workspace.status_text_set(f"clothbake: {self._verb} {percent}% (Esc to cancel)")
+        redraw(context, {"PROPERTIES"})
 
     def _end_modal(self, context):
         wm = context.window_manager
@@ -187,7 +209,6 @@ class ProgramJob:
             return {"PASS_THROUGH"}
         code = self._job.poll()
         self._show_progress(context)
-        redraw(context)
         if code is None:
             return {"RUNNING_MODAL"}
         self._end_modal(context)

@@ -1,6 +1,7 @@
 """The clothbake panel (Properties > Object > clothbake) and the File >
 Import / Export menu entries."""
 import os
+import textwrap
 
 import bpy
 
@@ -172,18 +173,35 @@ def _split_column(layout):
     return col
 
 
-def _estimate_row(col, current, estimate, operator):
+def _wrap(context, text, less=0):
+    """`text` in lines that fit the panel's width less `less` characters (a
+    label is cut with an ellipsis where it overflows)."""
+    chars = max(24, int(context.region.width / (7 * context.preferences.view.ui_scale)) - less)
+    return textwrap.wrap(text, chars) or [""]
+
+
+def _wrapped(col, context, text, icon):
+    """`text` as labels wrapped to the panel's width, `icon` on the first."""
+    for i, line in enumerate(_wrap(context, text)):
+        col.label(text=line, icon=icon if i == 0 else "BLANK1")
+
+
+def _estimate_row(col, context, current, estimate, operator):
     """What a bake would cost, before it starts: the program's estimate for
     exactly these settings, else the button that makes one."""
     row = col.row(align=True)
     if current:
-        # A warning after "; " (program.texels_note) on a line of its own:
-        # the panel is narrow.
-        text, _, warning = estimate.partition("; ")
-        row.label(text=text, icon="TIME")
+        # The notes after "; " (what the bake chose and why, a texels
+        # warning: program.plan_note, texels_note) wrapped below: the panel
+        # is narrow.
+        text, _, notes = estimate.partition("; ")
+        first, *rest = _wrap(context, text, less=4)  # the refresh button beside it
+        row.label(text=first, icon="TIME")
         row.operator(operator.bl_idname, text="", icon="FILE_REFRESH")
-        if warning:
-            col.label(text=warning, icon="ERROR")
+        for line in rest:
+            col.label(text=line, icon="BLANK1")
+        if notes:
+            _wrapped(col.column(align=True), context, notes, "INFO")
     else:
         row.operator(operator.bl_idname, text="Estimate time and size", icon="TIME")
 
@@ -218,7 +236,7 @@ class CLOTHBAKE_PT_bake(_ObjectPanel, bpy.types.Panel):
         else:
             col.prop(settings, "texels")
         col.prop(settings, "bake_spp")
-        _estimate_row(col, estimate_is_current(context), settings.bake_estimate,
+        _estimate_row(col, context, estimate_is_current(context), settings.bake_estimate,
                       CLOTHBAKE_OT_estimate)
         col.prop(settings, "compare_samples")
         row, running = _job_row(layout, CLOTHBAKE_OT_bake, CLOTHBAKE_OT_apply)
@@ -254,8 +272,8 @@ class CLOTHBAKE_PT_material(_ObjectPanel, bpy.types.Panel):
         for setting in MATERIAL_SETTINGS:
             col.prop(settings, setting.prop)
         col.prop(settings, "material_route")
-        _estimate_row(col, material_estimate_is_current(context), settings.material_estimate,
-                      CLOTHBAKE_OT_material_estimate)
+        _estimate_row(col, context, material_estimate_is_current(context),
+                      settings.material_estimate, CLOTHBAKE_OT_material_estimate)
         _, running = _job_row(layout, CLOTHBAKE_OT_bake_material, CLOTHBAKE_OT_apply_material)
         if running and settings.material_running:
             layout.prop(settings, "material_progress", text="Baking material (Esc cancels)",
