@@ -83,7 +83,7 @@ BakePlan plan_material_bake(const MaterialSource& source, const MaterialSettings
   s.texels = k_auto_crossing_texels;
   // Fewer texels a crossing before a refusal: a 641 x 641 draft's volume
   // alone holds 16 GB of the 18 a 24 GB machine gives, and at 4 texels its
-  // blocks take the 2 GB left (docs/design/material.md, "Automatic address").
+  // blocks take the 2 GB left (docs/design/material.md, "What the bake chooses").
   const uint64_t at_default = footprint(source, s, threads).bytes;
   if (at_default > budget_bytes) {
     s.texels = k_auto_crossing_min_texels;

@@ -16,7 +16,7 @@ namespace clothbake {
 
 /// Texels per crossing side the automatic choice takes per crossing: the
 /// 91 x 480-thread overshot of testscenes/wif/real baked there in 4.6 GB
-/// where 32 needed 53 GB (docs/design/material.md, "Automatic address").
+/// where 32 needed 53 GB (docs/design/material.md, "What the bake chooses").
 inline constexpr int k_auto_crossing_texels = 8;
 /// The fewest it takes before refusing, when 8 does not fit the budget: 4
 /// texels still resolve each thread of a crossing twice over

@@ -15,7 +15,6 @@ std::string colour_parts_refusal(ShadingMode shading, bool from_vdb) {
 namespace {
 constexpr const char* k_rgb_asked = "RGB was asked (parts)";
 
-/// The colour-free volume of `spec` into `src`, with its spec and palette.
 /// The colour-free volume of `spec` (`volume` when generated already) into
 /// `src`, with its spec and palette.
 void make_colour_free(const ClothSpec& spec, uint64_t budget, MaterialSource& src,
