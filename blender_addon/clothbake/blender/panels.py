@@ -116,7 +116,7 @@ def _draw_wif(layout, context, obj, cloth):
         col = box.column()
         col.alert = True
         col.label(text="The WIF file could not be read:", icon="ERROR")
-        for part in _wrap(cloth.wif_status, 48):
+        for part in textwrap.wrap(cloth.wif_status, 48):
             col.label(text=part)
     draft = wif_preview.draft(cloth)
     if draft is None:
@@ -150,18 +150,6 @@ def _draw_wif(layout, context, obj, cloth):
         row.label(text=f"{i + 1}: {counts}")
         row.prop(item, "color", text="")
     return draft
-
-
-def _wrap(text, width):
-    """`text` in lines of at most about `width` characters, at spaces."""
-    lines, line = [], ""
-    for word in text.split():
-        if line and len(line) + 1 + len(word) > width:
-            lines.append(line)
-            line = word
-        else:
-            line = f"{line} {word}" if line else word
-    return lines + ([line] if line else [])
 
 
 def _split_column(layout):
