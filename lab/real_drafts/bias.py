@@ -16,18 +16,8 @@ import os
 import sys
 
 import numpy as np
-import OpenImageIO as oiio
 
-BACKGROUND = np.array([0.05, 0.05, 0.06])  # the paper scene's
-
-
-def load(path):
-    return np.asarray(oiio.ImageBuf(path).get_pixels(oiio.FLOAT))[..., :3]
-
-
-def blocks(a):
-    h, w = a.shape[:2]
-    return a.reshape(h // 8, 8, w // 8, 8, -1).mean((1, 3))
+from means import BACKGROUND, blocks, load
 
 
 def main():

@@ -207,7 +207,7 @@ TEST(LightFields, LayerMarchIsExactInAHomogeneousSlab) {
 // 15 degrees; grazing ones are measured by the stability suite. Returns the
 // relative L1 difference; `mean_ratio`, when given, receives the node
 // march's total over the renderer's. `spec`: the cloth (default the paper's
-// grid), its fields read as the bake's auto reads them.
+// grid).
 double node_march_against_the_march(float aspect, double* mean_ratio = nullptr,
                                     const ClothSpec* spec = nullptr) {
   Fixture f(spec ? *spec : paper_grid_weave());
@@ -231,10 +231,10 @@ double node_march_against_the_march(float aspect, double* mean_ratio = nullptr,
     light_texture.push_back(layout.texture_from_material(d));
     light_local.push_back(layout.local_from_material(d));
   }
-  const LightFieldMethod method =
-      spec ? LightFieldSet::resolve(LightFieldMethod::Auto, f.volume, 40.0f, 2)
-           : LightFieldMethod::Interpolated;
-  const LightFieldSet fields = LightFieldSet::build(f.volume, light_texture, 40.0f, 2, method);
+  // As the bake's auto reads them (interpolated on the paper's grid).
+  const LightFieldSet fields = LightFieldSet::build(
+      f.volume, light_texture, 40.0f, 2,
+      LightFieldSet::resolve(LightFieldMethod::Auto, f.volume, 40.0f, 2));
   double total_nodes = 0.0;
   NodeMarchScratch scratch;
   NodeMarchCounts counts;
