@@ -96,13 +96,22 @@ void warn_texels(const TexelAdvice& a, const MaterialSettings& s, const io::Mate
 }
 
 /// What following a refusal's advice would take here, probed as --estimate
-/// probes a bake: ", about 5 min here (estimated)".
+/// probes a bake: ", about 120 MB on disk, about 5 min here (estimated)".
 std::string advised_cost(const MaterialSource& src, const MemoryAdvice& advice, int threads) {
-  const double seconds = probe_material(src, advice.settings, threads).seconds;
-  const std::string time = seconds < 90.0
-                               ? std::to_string(std::max(1, int(std::lround(seconds)))) + " s"
-                               : std::to_string(int(std::lround(seconds / 60.0))) + " min";
-  return ", about " + time + " here (estimated)";
+  const MaterialEstimate e = probe_material(src, advice.settings, threads);
+  const std::string time = e.seconds < 90.0
+                               ? std::to_string(std::max(1, int(std::lround(e.seconds)))) + " s"
+                               : std::to_string(int(std::lround(e.seconds / 60.0))) + " min";
+  const uint64_t mb = std::max<uint64_t>(1, (e.disk_bytes + 500000) / 1000000);
+  return ", about " + std::to_string(mb) + " MB on disk, about " + time + " here (estimated)";
+}
+
+/// The folder's bytes as written.
+uint64_t folder_bytes(const std::string& dir) {
+  uint64_t bytes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  return bytes;
 }
 
 /// What the report and --estimate add (the add-on shows it as the warning).
@@ -195,6 +204,7 @@ void run_material(const MaterialArgs& args) {
   nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
   report["plan"] = plan.why;
   report["peak_resident_bytes"] = io::peak_resident_bytes();
+  report["disk_bytes"] = folder_bytes(args.out_dir);
   add_texels(advice, report);
   std::printf("%s\n", report.dump().c_str());
 }

@@ -83,6 +83,8 @@ def test_estimate_text():
     assert program.estimate_text(600, 10, bound="up to ") == "about 10 min, up to 1 MiB"
     assert (program.estimate_text(90, 900 * 2**20, what="peak memory")
             == "about 2 min, 900 MiB peak memory")
+    assert (program.estimate_text(300, 5 * 2**30, what="peak memory", disk=120.4e6)
+            == "about 5 min, 5120 MiB peak memory, about 120 MB on disk")
     assert program.duration_text(7200) == "2.0 h"
 
 

@@ -100,7 +100,7 @@ def main():
     result = bpy.ops.clothbake.material_estimate()
     seconds = time.perf_counter() - t0
     check(result == {"FINISHED"} and settings.material_estimate.startswith("about ") and
-          "MiB" in settings.material_estimate and
+          "MiB" in settings.material_estimate and "MB on disk" in settings.material_estimate and
           operators_material.material_estimate_is_current(bpy.context) and
           not os.path.exists(folder),
           f"Estimate shows '{settings.material_estimate}' in {seconds:.1f} s and writes no "

@@ -2,8 +2,8 @@
 # `clothbake material`'s memory refusals lead to a bake: each case is refused
 # (exit 1, "--memory-gib: ... holds N MiB before its table grows ..."), its
 # message names a setting that fits and what it costs ("Fits: --address
-# crossings --texels N: B blocks, the bake holds about M MiB, about T s
-# here"), and the same command with those flags bakes, under the same
+# crossings --texels N: B blocks, the bake holds about M MiB, about D MB on
+# disk, about T s here"), and the same command with those flags bakes, under the same
 # budget, and holds the address and texels named. A real WIF (wi_32twill,
 # 62 x 62 threads) at small settings:
 # - addressed per crossing at 32 texels, asked, with 300 MiB left beside the
@@ -35,7 +35,7 @@ follow() { # follow GIB ARGS...: refused, then baked with the advice
   [[ -e $out ]] && fail "case $case_n: the refusal wrote $out"
   grep -qE -- "--memory-gib: .* holds [0-9]+ MiB before its table grows" "$tmp/err" || fail "case $case_n: $(cat "$tmp/err")"
   local advice
-  advice=$(grep -oE -- "Fits: --address crossings --texels [0-9]+: [0-9]+ blocks?, the bake holds about [0-9]+ MiB, about [0-9]+ (s|min) here" "$tmp/err") ||
+  advice=$(grep -oE -- "Fits: --address crossings --texels [0-9]+: [0-9]+ blocks?, the bake holds about [0-9]+ MiB, about [0-9]+ MB on disk, about [0-9]+ (s|min) here" "$tmp/err") ||
     fail "case $case_n: no advice that names a setting: $(cat "$tmp/err")"
   local texels=${advice#*--texels }
   texels=${texels%%:*}

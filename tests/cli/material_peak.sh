@@ -7,7 +7,9 @@
 # 16 texels, 4 x 4 view and 6 x 6 light directions) and one addressed per
 # crossing whose view matrices are (a real WIF, wi_32twill, 62 x 62
 # threads). At the defaults the real drafts land within 0.98 to 1.08
-# (docs/design/material.md, "Memory"; lab/real_drafts).
+# (docs/design/material.md, "Memory"; lab/real_drafts). The estimate's size
+# on disk against the folder as written: within 1.5 x either way, where the
+# estimate probes the ranks (the whole repeat).
 #   material_peak.sh EXE ROOT
 set -u
 exe=$1 root=$2
@@ -36,7 +38,17 @@ line = (f"{sys.argv[3]}: estimated peak {est['peak_bytes'] / 2**20:.0f} MiB "
         f"{bake['peak_resident_bytes'] / 2**20:.0f} MiB (ranks {bake['mean_rank']:.1f} / "
         f"{bake['max_rank']}): ratio {ratio:.3f}")
 print(("ok   " if 0.9 <= ratio <= 1.1 else "FAIL ") + line)
-sys.exit(0 if 0.9 <= ratio <= 1.1 else 1)
+# The size on disk the advice quotes: "about", from the ranks expected, so
+# within 1.5 x either way of the folder as written where the estimate probes
+# the ranks (the whole repeat). An addressed bake's expected ranks are the
+# real drafts' at the defaults (bake_memory.h), not this small bake's.
+disk = est["disk_bytes"] / bake["disk_bytes"]
+disk_ok = 1 / 1.5 <= disk <= 1.5 or est.get("address") == "crossings"
+print(("ok   " if disk_ok else "FAIL ") +
+      f"{sys.argv[3]}: estimated {est['disk_bytes'] / 1e6:.1f} MB on disk, written "
+      f"{bake['disk_bytes'] / 1e6:.1f} MB: ratio {disk:.3f}" +
+      (" (not checked: ranks not probed)" if est.get("address") == "crossings" else ""))
+sys.exit(0 if 0.9 <= ratio <= 1.1 and disk_ok else 1)
 PY
 }
 check paper "$root/testscenes/paper/scene.json" --texels 16 --directions 4 --light-directions 6 --spp 1

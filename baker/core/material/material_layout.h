@@ -74,12 +74,14 @@ struct MaterialLayout {
     return uint64_t(view_count()) *
            (pyramid_texels() * (uint64_t(channels) * r + 1) + uint64_t(light_count()) * r) * sizeof(float);
   }
-  /// The folder's images uncompressed at `rank`: half coefficients and alpha
-  /// per level, float light factors (at least one channel).
-  uint64_t file_bytes(int rank) const {
-    const uint64_t r = uint64_t(std::max(rank, 0));
-    return uint64_t(view_count()) * (pyramid_texels() * (1 + uint64_t(channels) * r) * 2 +
-                                     uint64_t(light_count()) * std::max<uint64_t>(1, r) * 4);
+  /// The folder's images uncompressed at `rank` coefficient slots (a mean
+  /// rank may be fractional): half coefficients and alpha per level, float
+  /// light factors (at least one channel).
+  uint64_t file_bytes(double rank) const {
+    const double r = std::max(rank, 0.0);
+    return uint64_t(double(view_count()) *
+                    (double(pyramid_texels()) * (1.0 + double(channels) * r) * 2.0 +
+                     double(light_count()) * std::max(1.0, r) * 4.0));
   }
   /// What one bake worker holds for the view node it marches: the texels x
   /// RGB by light-node matrix and its factorised copy.

@@ -260,6 +260,7 @@ MaterialEstimate probe_material(const MaterialSource& source, const MaterialSett
   e.expected_mean_rank = ranks.mean;
   e.expected_max_rank = ranks.max;
   e.bake_peak_bytes = bake_memory(material, volume, threads, ranks).peak();
+  e.disk_bytes = uint64_t(k_disk_per_uncompressed * double(layout.file_bytes(ranks.mean)));
 
   const ProbeLights lights = probe_fields(material, volume, e);
   e.rays = uint64_t(double(e.view_nodes) * double(layout.level_texels(0)) * settings.spp *
@@ -281,6 +282,7 @@ MaterialEstimate probe_material(const MaterialSource& source, const MaterialSett
     e.mips_seconds *= view_share;
     e.rays = uint64_t(views.size()) * layout.level_texels(0) * uint64_t(settings.spp);
     e.max_bytes = uint64_t(double(e.max_bytes) * view_share);
+    e.disk_bytes = uint64_t(double(e.disk_bytes) * view_share);
     e.view_nodes = int(views.size());
   }
   e.seconds = e.fields_seconds + e.marches_seconds + e.factorise_seconds + e.mips_seconds;

@@ -37,6 +37,10 @@ struct MaterialEstimate {
   uint64_t bake_peak_bytes = 0;
   double expected_mean_rank = 0.0;
   int expected_max_rank = 0;
+  /// The folder on disk, about: its images uncompressed at the expected mean
+  /// rank (a view's slots above its rank are zeros, which zip all but
+  /// removes) times k_disk_per_uncompressed.
+  uint64_t disk_bytes = 0;
   /// For a part of a sharded bake (`--shard I/N`): the whole bake's view
   /// nodes, and the part's share of their estimated cost (material_view_cost);
   /// the figures above are then the part's.
@@ -44,6 +48,13 @@ struct MaterialEstimate {
   int whole_view_nodes = 0;
   double shard_cost_share = 1.0;
 };
+
+/// What zip keeps of the folder's images at their mean rank: 0.60 on the
+/// paper cloth at the defaults (112 MB on disk at mean rank 25.1). With the
+/// ranks as estimated, the real drafts' folders at the defaults come to 0.76
+/// to 1.16 of the estimate (docs/design/material.md, "Memory";
+/// tests/cli/material_peak.sh checks a small bake).
+inline constexpr double k_disk_per_uncompressed = 0.6;
 
 /// Probe sizes: light nodes built and marched, view nodes marched, rays per
 /// probe view. On the paper scene at the defaults (200 light nodes, 512 view

@@ -123,8 +123,9 @@ def estimate_material(context):
     size = int(report.get("peak_bytes", report["max_bytes"]))
     settings = context.scene.clothbake
     notes = [n for n in (runner.plan_note(report), runner.texels_note(report)) if n]
-    settings.material_estimate = "; ".join([runner.estimate_text(seconds, size, what="peak memory")]
-                                           + notes)
+    estimate = runner.estimate_text(seconds, size, what="peak memory",
+                                    disk=report.get("disk_bytes"))
+    settings.material_estimate = "; ".join([estimate] + notes)
     settings.material_estimate_for = _estimate_key(context)
     return seconds, size
 

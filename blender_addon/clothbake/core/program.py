@@ -174,9 +174,13 @@ def plan_note(report):
     return f"{mode}: {why}"
 
 
-def estimate_text(seconds, size, bound="", what=""):
+def estimate_text(seconds, size, bound="", what="", disk=None):
     """An estimate as the panel shows it (short: the panel is narrow); `bound`
     ("up to ") when the size is an upper bound; `what` names the size
-    ("peak memory")."""
+    ("peak memory"); `disk`, bytes, the folder's size on disk (MB, as a file
+    manager shows it)."""
     mib = max(1, round(size / 2**20))
-    return f"about {duration_text(seconds)}, {bound}{mib} MiB" + (f" {what}" if what else "")
+    text = f"about {duration_text(seconds)}, {bound}{mib} MiB" + (f" {what}" if what else "")
+    if disk is not None:
+        text += f", about {max(1, round(disk / 1e6))} MB on disk"
+    return text
