@@ -66,8 +66,8 @@ DEBS=$ROOTS/debs-$SUITE
 STAMP=etc/clothbake-root # in the root: written last by setup, with the pins
 
 # Packages of scripts/packages.txt that a root does not get: the farm's daemons
-# (Slurm, munge), the fuzzer's clang and debootstrap stay on the host.
-SKIP_PACKAGES=${CLOTHBAKE_ROOT_SKIP:-"slurm-wlm munge clang libclang-rt-dev debootstrap"}
+# (Slurm, munge), the fuzzer's clang, the profiler and debootstrap stay on the host.
+SKIP_PACKAGES=${CLOTHBAKE_ROOT_SKIP:-"slurm-wlm munge clang libclang-rt-dev debootstrap linux-perf"}
 # Wanted beyond packages.txt: Debian's Blender 5.x cannot register its
 # extensions system (bl_pkg) without cattrs (python3-cattr) and requests
 # (python3-requests), both only recommended; xvfb-run needs xauth. Names a
