@@ -24,6 +24,7 @@
 #include "core/bake/baker.h"
 #include "core/util/error.h"
 #include "core/util/hex.h"
+#include "io/folder_output.h"
 #include "io/lookup_io.h"
 #include "io/progress.h"
 #include "io/scene_json.h"
@@ -206,11 +207,8 @@ void write_bake(const BakeArgs& args, const BakeJob& job, const std::vector<Look
                      {"full_bytes_uncompressed", full_bytes},
                      {"full_seconds_estimated", full_seconds}};
   io::write_lookup(args.out_dir, tables, info, job.scene);
-  uint64_t on_disk = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(args.out_dir))
-    if (entry.is_regular_file()) on_disk += entry.file_size();
   nlohmann::json report = info.statistics;
-  report["bytes_on_disk"] = on_disk;
+  report["bytes_on_disk"] = io::folder_bytes(args.out_dir);
   report["out"] = args.out_dir;
   std::printf("%s\n", report.dump(2).c_str());
   if (args.settings.adaptive && !args.quiet)

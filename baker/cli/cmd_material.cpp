@@ -106,14 +106,6 @@ std::string advised_cost(const MaterialSource& src, const MemoryAdvice& advice, 
   return ", about " + std::to_string(mb) + " MB on disk, about " + time + " here (estimated)";
 }
 
-/// The folder's bytes as written.
-uint64_t folder_bytes(const std::string& dir) {
-  uint64_t bytes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (entry.is_regular_file()) bytes += entry.file_size();
-  return bytes;
-}
-
 /// What the report and --estimate add (the add-on shows it as the warning).
 void add_texels(const TexelAdvice& a, nlohmann::json& j) {
   if (!a.known()) return;
@@ -204,7 +196,7 @@ void run_material(const MaterialArgs& args) {
   nlohmann::json report = io::material_bake_report_json(material, stats, seconds, threads);
   report["plan"] = plan.why;
   report["peak_resident_bytes"] = io::peak_resident_bytes();
-  report["disk_bytes"] = folder_bytes(args.out_dir);
+  report["bytes_on_disk"] = io::folder_bytes(args.out_dir);
   add_texels(advice, report);
   std::printf("%s\n", report.dump().c_str());
 }

@@ -82,4 +82,11 @@ void write_json_file(const std::string& path, const nlohmann::json& doc) {
   if (!f) throw InputError("", errno != 0 ? std::strerror(errno) : "write error", path);
 }
 
+uint64_t folder_bytes(const std::string& dir) {
+  uint64_t bytes = 0;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  return bytes;
+}
+
 }  // namespace clothbake::io

@@ -35,6 +35,10 @@ void check_folder_parent(const std::string& dir, const std::string& option);
 void write_folder(const std::string& dir, const std::string& kind, uint64_t bytes_needed,
                   const std::function<void(const std::filesystem::path& temp_dir)>& fill);
 
+/// The bytes of the regular files directly in `dir` (a lookup or material
+/// folder as written): what the reports give as bytes_on_disk.
+uint64_t folder_bytes(const std::string& dir);
+
 /// A JSON file (pretty, two spaces, a final newline), every write checked.
 void write_json_file(const std::string& path, const nlohmann::json& doc);
 

@@ -18,7 +18,7 @@ nlohmann::json material_estimate_json(const MaterialSettings& s, const MaterialE
       {"light_field_bytes", e.light_field_bytes}, {"fixed_bytes", e.fixed_bytes},
       {"max_bytes", e.max_bytes}, {"bake_peak_bytes", e.bake_peak_bytes},
       {"expected_mean_rank", e.expected_mean_rank}, {"expected_max_rank", e.expected_max_rank},
-      {"disk_bytes", e.disk_bytes}};
+      {"bytes_on_disk", e.disk_bytes}};
   nlohmann::json part = report;
   if (s.address == MaterialAddress::Crossings) {
     part["address"] = "crossings";

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The material's size on disk as `clothbake material --estimate` puts it
-# (disk_bytes), for the paper cloth and each real draft at the defaults: the
+# (bytes_on_disk), for the paper cloth and each real draft at the defaults: the
 # left column of docs/design/material.md's "Size on disk". The written sizes
 # beside them are the bakes' (real_drafts.py's results, the guide's table).
 # A probe each: about 10 to 60 s on 2 cores.
@@ -13,7 +13,7 @@ trap 'rm -rf "$tmp"' EXIT
 estimate() { # estimate NAME INPUT
   "$exe" material "$2" -o "$tmp/$1.mat" --estimate --quiet >"$tmp/$1.json"
   /usr/bin/python3 -c "import json, sys; e = json.load(open(sys.argv[1]))
-print(f'{sys.argv[2]}: {e[\"disk_bytes\"] / 1e6:.1f} MB at mean rank {e[\"expected_mean_rank\"]:.1f}')" \
+print(f'{sys.argv[2]}: {e[\"bytes_on_disk\"] / 1e6:.1f} MB at mean rank {e[\"expected_mean_rank\"]:.1f}')" \
     "$tmp/$1.json" "$1"
 }
 estimate paper "$root/testscenes/paper/scene.json"

@@ -42,11 +42,11 @@ print(("ok   " if 0.9 <= ratio <= 1.1 else "FAIL ") + line)
 # within 1.5 x either way of the folder as written where the estimate probes
 # the ranks (the whole repeat). An addressed bake's expected ranks are the
 # real drafts' at the defaults (bake_memory.h), not this small bake's.
-disk = est["disk_bytes"] / bake["disk_bytes"]
+disk = est["bytes_on_disk"] / bake["bytes_on_disk"]
 disk_ok = 1 / 1.5 <= disk <= 1.5 or est.get("address") == "crossings"
 print(("ok   " if disk_ok else "FAIL ") +
-      f"{sys.argv[3]}: estimated {est['disk_bytes'] / 1e6:.1f} MB on disk, written "
-      f"{bake['disk_bytes'] / 1e6:.1f} MB: ratio {disk:.3f}" +
+      f"{sys.argv[3]}: estimated {est['bytes_on_disk'] / 1e6:.1f} MB on disk, written "
+      f"{bake['bytes_on_disk'] / 1e6:.1f} MB: ratio {disk:.3f}" +
       (" (not checked: ranks not probed)" if est.get("address") == "crossings" else ""))
 sys.exit(0 if 0.9 <= ratio <= 1.1 and disk_ok else 1)
 PY

@@ -124,7 +124,7 @@ def estimate_material(context):
     settings = context.scene.clothbake
     notes = [n for n in (runner.plan_note(report), runner.texels_note(report)) if n]
     estimate = runner.estimate_text(seconds, size, what="peak memory",
-                                    disk=report.get("disk_bytes"))
+                                    disk=report.get("bytes_on_disk"))
     settings.material_estimate = "; ".join([estimate] + notes)
     settings.material_estimate_for = _estimate_key(context)
     return seconds, size
