@@ -48,6 +48,9 @@ nlohmann::json material_bake_report_json(const ClothMaterial& m, const MaterialB
       {"fiber_evaluations_per_core_second", double(stats.fiber_evaluations) / core_seconds},
       {"light_field_mib", double(stats.field_bytes) / double(1 << 20)},
       {"uncompressed_mib", stats.uncompressed_values * 2.0 / double(1 << 20)},
+      {"fields_seconds", stats.fields_seconds}, {"marches_seconds", stats.marches_seconds},
+      {"factorise_seconds", stats.factorise_seconds},
+      {"assemble_seconds", stats.assemble_seconds},
       {"max_rank", m.max_rank}, {"mean_rank", rank_sum / double(m.view_count())},
       {"worst_view_error", worst}, {"depth_scale", m.optics.depth_scale},
       {"light_fields", enum_name(k_light_field_names, m.settings.light_fields)}};

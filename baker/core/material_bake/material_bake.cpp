@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <string>
@@ -16,6 +17,7 @@
 #include "core/material_bake/material_shard.h"
 #include "core/material_bake/parallax_fit.h"
 #include "core/util/error.h"
+#include "core/util/stopwatch.h"
 
 namespace clothbake {
 
@@ -230,6 +232,7 @@ struct BakeRun {
   std::mutex progress_mutex;
   uint64_t field_bytes_built = 0;
   double marches_per_block = 1.0;  // addressed per crossing: its members
+  double fields_seconds = 0.0, marches_seconds = 0.0, factorise_seconds = 0.0;
 
   int view_count() const { return int(views.size()); }
   /// Serialised: `progress` is called from workers.
@@ -254,6 +257,7 @@ void bake_crossings(BakeRun& run) {
   const bool tabulate = tabulates_fiber(settings, material.optics);
   std::vector<Eigen::MatrixXf> matrices(static_cast<size_t>(n_views));
   std::vector<FiberLightTable> tables(tabulate ? size_t(n_views) : 0);
+  auto t0 = std::chrono::steady_clock::now();
   tbb::parallel_for(0, n_views, [&](int i) {
     matrices[size_t(i)].setZero(Eigen::Index(R) * rows * ch, n_lights);
     run.factors[size_t(run.views[size_t(i)])].alpha.assign(size_t(R) * rows, 0.0f);
@@ -267,6 +271,7 @@ void bake_crossings(BakeRun& run) {
     members.push_back(material.crossings.members(b, settings.members));
     marches += members.back().size();
   }
+  run.marches_seconds += seconds_since(t0);
   run.marches_per_block = double(marches) / double(std::max<size_t>(members.size(), 1));
   const double steps = double(marches) * n_views + n_views;
   std::atomic<int> steps_done{0};
@@ -276,10 +281,13 @@ void bake_crossings(BakeRun& run) {
       // representative's, assigned as a whole-repeat bake's texels are).
       const float weight = members[b].size() == 1 ? 1.0f : 1.0f / float(members[b].size());
       const BlockWindow w = crossing_window(material, run.volume, c);
+      t0 = std::chrono::steady_clock::now();
       const LightFieldSet fields = LightFieldSet::build_window(
           run.volume, w.x0, w.y0, w.cells_x, w.cells_y, run.light_nodes.texture,
           material.optics.extinction_per_mm, settings.field_supersample, settings.light_fields);
       run.field_bytes_built = std::max<uint64_t>(run.field_bytes_built, fields.bytes());
+      run.fields_seconds += seconds_since(t0);
+      t0 = std::chrono::steady_clock::now();
       tbb::parallel_for(0, n_views, [&](int i) {
         const int view = run.views[size_t(i)];
         march_view_rows(material, run.volume, run.shader, fields, run.light_nodes.local, view,
@@ -288,14 +296,17 @@ void bake_crossings(BakeRun& run) {
                         &c, weight);
         run.report(double(++steps_done) / steps);
       });
+      run.marches_seconds += seconds_since(t0);
     }
   tables.clear();
+  t0 = std::chrono::steady_clock::now();
   tbb::parallel_for(0, n_views, [&](int i) {
     ViewFactors& f = run.factors[size_t(run.views[size_t(i)])];
     factorise(matrices[size_t(i)], settings.max_error, ch, f);
     matrices[size_t(i)] = Eigen::MatrixXf();
     run.report(double(++steps_done) / steps);
   });
+  run.factorise_seconds = seconds_since(t0);
 }
 
 /// Steps 2 and 3 over the whole repeat, per view node: march every texel
@@ -304,26 +315,41 @@ void bake_crossings(BakeRun& run) {
 void bake_repeat(BakeRun& run, uint64_t fields_bytes, uint64_t budget) {
   const ClothMaterial& material = run.material;
   const MaterialSettings& settings = material.settings;
+  const auto t_fields = std::chrono::steady_clock::now();
   const LightFieldSet fields =
       LightFieldSet::build(run.volume, run.light_nodes.texture, material.optics.extinction_per_mm,
                            settings.field_supersample, settings.light_fields);
   run.field_bytes_built = fields.bytes();
+  run.fields_seconds = seconds_since(t_fields);
   std::atomic<uint64_t> table_bytes{0};
   std::atomic<int> views_done{0};
   std::atomic<bool> over_budget{false};
+  // CPU nanoseconds of the two parts of a view's task, to split their wall time.
+  std::atomic<uint64_t> march_ns{0}, factorise_ns{0};
   const int n_views = run.view_count();
+  const auto t_views = std::chrono::steady_clock::now();
   tbb::parallel_for(0, n_views, [&](int i) {
     if (over_budget) return;
     const int view = run.views[size_t(i)];
     ViewFactors& f = run.factors[size_t(view)];
+    const auto t0 = std::chrono::steady_clock::now();
     const Eigen::MatrixXf m = march_view_node(material, run.volume, run.shader, fields,
                                               run.light_nodes.local, view, run.locals.local(), f);
+    const auto t1 = std::chrono::steady_clock::now();
     factorise(m, settings.max_error, material.layout().channels, f);
+    march_ns += uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+    factorise_ns += uint64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t1)
+            .count());
     const uint64_t bytes = table_bytes +=
         (f.coefficients.size() + f.light.size() + f.alpha.size()) * sizeof(float);
     if (fields_bytes + bytes > budget) over_budget = true;
     run.report(double(++views_done) / double(n_views));
   });
+  const double wall = seconds_since(t_views);
+  const double busy = double(march_ns + factorise_ns);
+  run.marches_seconds = busy > 0.0 ? wall * double(march_ns) / busy : 0.0;
+  run.factorise_seconds = wall - run.marches_seconds;
   if (over_budget)
     throw InputError("memory", "the factorised table grew past the budget of " +
                                    std::to_string(budget >> 20) +
@@ -343,6 +369,9 @@ MaterialBakeStats bake_stats(const BakeRun& run) {
   const double n_views = double(run.view_count());
   stats.rays = uint64_t(n_views * double(texels) * material.settings.spp * run.marches_per_block);
   stats.field_bytes = run.field_bytes_built;
+  stats.fields_seconds = run.fields_seconds;
+  stats.marches_seconds = run.marches_seconds;
+  stats.factorise_seconds = run.factorise_seconds;
   stats.uncompressed_values =
       n_views * double(texels) * material.light_count() * material.layout().channels;
   return stats;
@@ -372,11 +401,16 @@ ClothMaterial bake_material(const MaterialSource& source, const MaterialSettings
     bake_crossings(run);
   else
     bake_repeat(run, fields_bytes, memory_budget);
+  const auto t_assemble = std::chrono::steady_clock::now();
   assemble(run.factors, material);
+  const double assemble_seconds = seconds_since(t_assemble);
   // A part holds a share of the view nodes: the merge fits the whole.
   if (material.settings.view_parallax && shard.whole())
     material.parallax_depth_mm = fit_view_parallax(material).depth_mm;
-  if (stats) *stats = bake_stats(run);
+  if (stats) {
+    *stats = bake_stats(run);
+    stats->assemble_seconds = assemble_seconds;
+  }
   return material;
 }
 

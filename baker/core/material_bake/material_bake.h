@@ -30,6 +30,13 @@ struct MaterialBakeStats {
   uint64_t fiber_evaluations = 0;  ///< cells x light nodes
   uint64_t field_bytes = 0;        ///< the light fields
   double uncompressed_values = 0;  ///< texels x views x lights x RGB at level 0, before the SVD
+  /// Wall seconds of the steps, named as material_probe.h estimates them:
+  /// the light fields' build, the marches (with the fibre tables), the
+  /// factorisation, and the table's assembly with its mips. Over the whole
+  /// repeat a view node is marched and factorised in one task; the tasks'
+  /// wall time is split between the two by their CPU time.
+  double fields_seconds = 0.0, marches_seconds = 0.0, factorise_seconds = 0.0,
+         assemble_seconds = 0.0;
 };
 
 /// The light fields the bake holds at once: the whole repeat's, or the
