@@ -1,10 +1,9 @@
 #pragma once
 /// The view-ray march of Kimoto & Ohno section 5 (PAPER.md s.5) through one
 /// volume texture, in texture space: the skeleton of sample_march.h (cells by
-/// DDA, equally spaced samples, front-to-back compositing with opacity
-/// 1 - exp(-sigma rho dt), so the sum stays bounded for any step), each
-/// sample with fibre in its cell lit by every light through the cloth and
-/// shaded.
+/// DDA, each cell's exact opacity composited front to back and shared among
+/// samples placed by its extinction), each sample lit by every light through
+/// the cloth and shaded.
 
 #include <cstdint>
 #include <span>

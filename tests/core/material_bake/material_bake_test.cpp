@@ -628,14 +628,14 @@ namespace {
 // on the repeat's average (the 1 x 1 level) seen from a node near the
 // normal: exact table (max_error 0), so only the light interpolation is left.
 // Measured errors (relative, RGB sum), light nodes on the plain
-// hemi-octahedral square (too bright toward the horizon): 5 deg 0.193, 10 deg
-// 0.121, 20 deg 0.015, 45 deg 0.020, 70 deg 0.003; drawn toward the horizon
-// (the default): 0.058, 0.059, 0.024, 0.017, 0.002. This coarse grid's cells
+// hemi-octahedral square (too bright toward the horizon): 5 deg 0.281, 10 deg
+// 0.219, 20 deg 0.041, 45 deg 0.017, 70 deg 0.002; drawn toward the horizon
+// (the default): 0.036, 0.069, 0.022, 0.018, 0.003. This coarse grid's cells
 // are opaque (2.5 per field cell), so the bake and the truth read the fields
-// by the layer march (auto); with the interpolated fields, which darken
-// grazing light here (LightFields.LayerMarchReadsOpaqueCells...), the figures
-// were 0.337, 0.288, 0.195, 0.074, 0.009 and 0.030, 0.084, 0.086, 0.017,
-// 0.002. Each bound is 1.5 x its measurement (at least 0.02: sampling noise).
+// by the layer march (auto). The march shades an opaque yarn's lit skin, whose
+// light changes fast with elevation near the horizon: there interpolation
+// between light nodes is hardest. Each bound
+// is 1.5 x its measurement (at least 0.02: sampling noise).
 class MaterialGrazingLight : public ::testing::TestWithParam<DirectionMap> {};
 
 TEST_P(MaterialGrazingLight, ByElevation) {
@@ -652,8 +652,8 @@ TEST_P(MaterialGrazingLight, ByElevation) {
   const int view = m.view_grid.node_index(0, 2, 1);  // 45 degrees from the normal
   const V3f to_eye = m.view_grid.node_direction(0, 2, 1);
   const float elevations[] = {5.0f, 10.0f, 20.0f, 45.0f, 70.0f};
-  const float square_bounds[] = {0.29f, 0.18f, 0.023f, 0.03f, 0.02f};
-  const float horizon_bounds[] = {0.087f, 0.089f, 0.036f, 0.026f, 0.02f};
+  const float square_bounds[] = {0.42f, 0.33f, 0.062f, 0.026f, 0.02f};
+  const float horizon_bounds[] = {0.054f, 0.10f, 0.033f, 0.027f, 0.02f};
   const float* bounds = horizon ? horizon_bounds : square_bounds;
   for (int e = 0; e < 5; ++e) {
     const float el = elevations[e] * std::numbers::pi_v<float> / 180.0f;
