@@ -3,15 +3,17 @@
 # one knob at a time on a draft real_drafts.py has measured, then the same
 # cloth on a flat plane seen obliquely and head-on.
 #
-#   lab/real_drafts/bias_sources.sh CLOTHBAKE WORK/NAME
+#   lab/real_drafts/bias_sources.sh CLOTHBAKE WORK/NAME [--flat-only]
 #
 # WORK/NAME holds real_drafts.py's scene.json, ref_seed1.exr, ref_seed1.json,
 # lookup.exr and material/. Writes variants beside them (bias/) and prints
-# each image's cloth mean over the reference's and its errors (means.py).
-# About 25 minutes on 2 cores for d2w_zeros.
+# each image's cloth mean over the reference's and its errors (means.py);
+# on the plane, the seed floor too (the reference with generator seed 2).
+# About 25 minutes on 2 cores for d2w_zeros, 6 with --flat-only.
 set -euo pipefail
 exe=$(realpath "$1")
 d=$(realpath "$2")
+flat_only=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 out="$d/bias"
@@ -47,6 +49,7 @@ bake() {  # bake NAME SCENE [material flags...]
   rm -rf "$out/material_$name"
 }
 
+if [ "$flat_only" != --flat-only ]; then
 echo "== the paper scene's folds: one knob at a time (reference: quarter step, seed 1)"
 edit "$d/scene.json" "$out/scene_quarter_step.json" 'render.step_cells=0.125'
 edit "$d/scene.json" "$out/scene_no_roulette.json" 'render.light_roulette=0.0'
@@ -66,6 +69,7 @@ edit "$d/ref_seed1.json" "$out/ref_half_step.json" 'render.step_cells=0.5'
   "$exe" render "$out/ref_half_step.json" -o "$out/ref_half_step.exr" --spp 64 --quiet
 "$py" "$here/means.py" "$d/ref_seed1.exr" "$d/lookup.exr" "$out"/lookup_*.exr \
   "$out/ref_half_step.exr"
+fi
 
 echo "== the same cloth on a flat plane (testscenes/flat's mesh), the paper scene's lights"
 flat_camera='{"position": [1.39, -2.981, 1.464], "look_at": [0.0, -0.05, 0.0], "up": [0, 0, 1], "fov_deg": 44, "fov_axis": "horizontal", "resolution": [320, 200]}'
@@ -84,10 +88,15 @@ for view in oblique head_on; do
       "$exe" render "$out/flat_${view}_ref_$step.json" -o "$out/flat_${view}_ref_$step.exr" \
         --spp 64 --quiet
   done
+  seed2="\"$d/cloth_seed2.json\""
+  edit "$out/flat_${view}_ref_0.125.json" "$out/flat_${view}_ref_seed2.json" "object.cloth=$seed2"
+  [ -f "$out/flat_${view}_ref_seed2.exr" ] ||
+    "$exe" render "$out/flat_${view}_ref_seed2.json" -o "$out/flat_${view}_ref_seed2.exr" \
+      --spp 64 --quiet
   [ -f "$out/flat_${view}_lookup.exr" ] ||
     "$exe" lookup-render "$out/flat_$view.json" "$out/material_flat" \
       -o "$out/flat_${view}_lookup.exr" --spp 64 --quiet
   echo "-- $view, against the reference at a quarter step"
   "$py" "$here/means.py" "$out/flat_${view}_ref_0.125.exr" "$out/flat_${view}_ref_0.5.exr" \
-    "$out/flat_${view}_lookup.exr"
+    "$out/flat_${view}_lookup.exr" "$out/flat_${view}_ref_seed2.exr"
 done
