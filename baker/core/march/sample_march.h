@@ -3,7 +3,8 @@
 /// cells along the ray by DDA (cell_walk.h), each cell's exact opacity
 /// 1 - exp(-sigma rho length) composited front to back and shared among
 /// samples placed by its extinction (about one a step), Russian roulette on
-/// the lights behind a dim view, and the stop at the cutoff. What a sample adds is the caller's: march_view_ray
+/// the lights behind a dim view, and the stop at the cutoff. What a sample
+/// adds is the caller's: march_view_ray
 /// (volume_march.h) lights it by the scene's lights, the material bake's
 /// march (material/node_march.h) by every light node at once. Both call this
 /// one loop, so they agree sample for sample by construction (pbrt-v4's
@@ -95,6 +96,8 @@ SampleMarchResult march_samples(const SampleMarchInput& in, OnCell&& on_cell,
     const float by_cutoff = std::ceil(tau_to_cutoff / (sigma * in.step_mm));
     const int n = std::max(1, int(std::min({by_length, by_cutoff, 1e6f})));
     const float share = alpha / float(n);
+    // Tangent, light and eye directions are the same for every sample of one
+    // cell: the caller computes the cell's reflection once.
     on_cell(cell, shaded);
     for (int i = 0; i < n; ++i) {
       const float u = (float(i) + offset) / float(n);
